@@ -1,0 +1,188 @@
+//! One error model for the whole crate: every failure on user data is a typed [`Error`]
+//! that names the file, line and column where it applies.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Where in an input something was found: a file (or `<string>`), a 1-based line and a
+/// 1-based column counted in characters.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Location {
+    pub path: Option<PathBuf>,
+    pub line: u64,
+    pub column: u32,
+}
+
+impl Location {
+    pub fn new(path: Option<&Path>, line: u64, column: u32) -> Self {
+        Self {
+            path: path.map(Path::to_path_buf),
+            line,
+            column,
+        }
+    }
+
+    /// The file name as shown to users: the path, or `<string>` for in-memory text.
+    pub fn source_name(&self) -> String {
+        self.path
+            .as_ref()
+            .map_or_else(|| "<string>".to_owned(), |p| p.display().to_string())
+    }
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}", self.source_name(), self.line, self.column)
+    }
+}
+
+/// What kind of input a parse error is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputKind {
+    Foon,
+    Kitchen,
+    Goal,
+    Motions,
+    Utensils,
+    Tree,
+}
+
+impl InputKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Foon => "FOON",
+            Self::Kitchen => "kitchen",
+            Self::Goal => "goal",
+            Self::Motions => "motion table",
+            Self::Utensils => "utensil list",
+            Self::Tree => "task tree",
+        }
+    }
+}
+
+/// Every error the core can return.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Error {
+    /// Malformed input: file, line, column and a short reason.
+    Parse {
+        at: Location,
+        kind: InputKind,
+        reason: String,
+    },
+    /// The file could not be read.
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The goal is not an object of the FOON.
+    GoalNotFound { goal: String },
+    /// A motion used by a candidate FU has no success rate and no default was given.
+    MissingRate { motion: String },
+    /// A bad argument (unknown method name, rate out of range, ...).
+    Invalid(String),
+    /// Work was cancelled through its stop flag.
+    Cancelled,
+}
+
+impl Error {
+    pub fn parse(
+        kind: InputKind,
+        path: Option<&Path>,
+        line: u64,
+        column: u32,
+        reason: impl Into<String>,
+    ) -> Self {
+        Self::Parse {
+            at: Location::new(path, line, column),
+            kind,
+            reason: reason.into(),
+        }
+    }
+
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// The location of a parse error, if this is one.
+    pub fn location(&self) -> Option<&Location> {
+        match self {
+            Self::Parse { at, .. } => Some(at),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Parse { at, kind, reason } => {
+                write!(f, "{at}: {} error: {reason}", kind.as_str())
+            }
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::GoalNotFound { goal } => write!(f, "The goal node does not exist: {goal}"),
+            Self::MissingRate { motion } => write!(
+                f,
+                "motion '{motion}' has no success rate in the motion table \
+                 (give a default rate to use one)"
+            ),
+            Self::Invalid(msg) => f.write_str(msg),
+            Self::Cancelled => f.write_str("cancelled"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// A problem that does not stop loading (an FU dropped for an annotation fault, ...).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Warning {
+    pub at: Location,
+    pub kind: WarningKind,
+    pub message: String,
+}
+
+/// The kinds of [`Warning`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum WarningKind {
+    /// An FU without a motion line; it is dropped.
+    NoMotion,
+    /// An FU with two motion lines; it is dropped.
+    TwoMotions,
+    /// The last FU has no closing `//`; it is kept.
+    Unterminated,
+}
+
+impl WarningKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::NoMotion => "no-motion",
+            Self::TwoMotions => "two-motions",
+            Self::Unterminated => "unterminated",
+        }
+    }
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: warning: {} [{}]",
+            self.at,
+            self.message,
+            self.kind.as_str()
+        )
+    }
+}

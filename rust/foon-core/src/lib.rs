@@ -1,0 +1,16 @@
+//! `foon-core`: parsing, compact index and task-tree retrieval for FOON (Functional
+//! Object-Oriented Networks). Pure Rust, no Python.
+#![forbid(unsafe_code)]
+
+pub mod companion;
+pub mod error;
+pub mod index;
+pub mod parse;
+pub mod search;
+pub mod write;
+
+pub use companion::{MotionRates, ObjectSpec};
+pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
+pub use index::{Foon, NONE, Stats};
+pub use parse::{ParseOptions, load_foon, parse_foon};
+pub use search::{Compat, Context, Count, Explanation, Method, Plan, Query};

@@ -1,0 +1,463 @@
+//! FOON text parser: the four dialects of real files (course `O`, lab `O<id>` with flags and
+//! CRLF, motion times), streaming over the bytes line by line.
+
+use std::borrow::Cow;
+use std::path::Path;
+
+use crate::error::{Error, InputKind, Location, Result, Warning, WarningKind};
+use crate::index::{Builder, Foon, NONE, RawObject};
+
+/// A line longer than this is rejected (no real FOON line comes near it).
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Options for loading.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ParseOptions {
+    /// Turn every warning into an error.
+    pub strict: bool,
+}
+
+/// One line, checked and split: its number, its text, and the byte offsets of its fields.
+pub(crate) struct Line<'a> {
+    pub(crate) number: u64,
+    pub(crate) text: &'a str,
+}
+
+impl<'a> Line<'a> {
+    /// 1-based character column of byte offset `byte` in the line.
+    pub(crate) fn column_of(&self, byte: usize) -> u32 {
+        let byte = byte.min(self.text.len());
+        self.text
+            .get(..byte)
+            .map_or(1, |s| s.chars().count() as u32 + 1)
+    }
+}
+
+/// Iterates over the lines of `data`, checking size, NUL bytes and UTF-8; strips `\r`.
+pub(crate) struct Lines<'a> {
+    data: &'a [u8],
+    pos: usize,
+    number: u64,
+    path: Option<&'a Path>,
+    kind: InputKind,
+}
+
+impl<'a> Lines<'a> {
+    pub(crate) fn new(data: &'a [u8], path: Option<&'a Path>, kind: InputKind) -> Self {
+        // A UTF-8 byte-order mark at the start is not part of the first line.
+        let pos = if data.starts_with(b"\xEF\xBB\xBF") {
+            3
+        } else {
+            0
+        };
+        Self {
+            data,
+            pos,
+            number: 0,
+            path,
+            kind,
+        }
+    }
+
+    fn error(&self, line: u64, column: u32, reason: impl Into<String>) -> Error {
+        Error::parse(self.kind, self.path, line, column, reason)
+    }
+}
+
+impl<'a> Iterator for Lines<'a> {
+    type Item = Result<Line<'a>>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.pos >= self.data.len() {
+            return None;
+        }
+        let rest = &self.data[self.pos..];
+        let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        self.number += 1;
+        self.pos += end + 1;
+        let mut raw = &rest[..end];
+        if raw.last() == Some(&b'\r') {
+            raw = &raw[..raw.len() - 1];
+        }
+        if raw.len() > MAX_LINE_BYTES {
+            self.pos = self.data.len();
+            return Some(Err(self.error(
+                self.number,
+                1,
+                format!(
+                    "line is {} bytes long (the limit is {MAX_LINE_BYTES})",
+                    raw.len()
+                ),
+            )));
+        }
+        let text = match std::str::from_utf8(raw) {
+            Ok(t) => t,
+            Err(e) => {
+                let good = &raw[..e.valid_up_to()];
+                let col = std::str::from_utf8(good).map_or(1, |s| s.chars().count() as u32 + 1);
+                self.pos = self.data.len();
+                return Some(Err(self.error(self.number, col, "invalid UTF-8")));
+            }
+        };
+        if let Some(i) = text.find('\0') {
+            let line = Line {
+                number: self.number,
+                text,
+            };
+            let col = line.column_of(i);
+            self.pos = self.data.len();
+            return Some(Err(self.error(self.number, col, "NUL byte")));
+        }
+        Some(Ok(Line {
+            number: self.number,
+            text,
+        }))
+    }
+}
+
+/// Lower-case and right-strip, as the course does with the second field of every line.
+fn normalise(s: &str) -> Cow<'_, str> {
+    let t = s.trim_end();
+    if t.bytes().any(|b| b.is_ascii_uppercase() || b >= 0x80) {
+        Cow::Owned(t.to_lowercase())
+    } else {
+        Cow::Borrowed(t)
+    }
+}
+
+/// What a line is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum LineKind {
+    Blank,
+    Comment,
+    End,
+    Object,
+    State,
+    Motion,
+}
+
+/// The fields of an `O`/`S`/`M` line: `(byte offset, text)` for each, trailing empty fields
+/// dropped. `fields[0]` is the kind with its id digits.
+pub(crate) fn classify<'a>(
+    line: &Line<'a>,
+    fields: &mut Vec<(usize, &'a str)>,
+) -> std::result::Result<LineKind, (u32, String)> {
+    let t = line.text;
+    if t.trim().is_empty() {
+        return Ok(LineKind::Blank);
+    }
+    if t.starts_with('#') {
+        return Ok(LineKind::Comment);
+    }
+    if t.starts_with("//") {
+        return Ok(LineKind::End);
+    }
+    fields.clear();
+    let mut start = 0;
+    for (i, b) in t.bytes().enumerate() {
+        if b == b'\t' {
+            fields.push((start, &t[start..i]));
+            start = i + 1;
+        }
+    }
+    fields.push((start, &t[start..]));
+    while fields.len() > 1 && fields.last().is_some_and(|(_, f)| f.trim().is_empty()) {
+        fields.pop();
+    }
+    let head = fields[0].1;
+    let kind = match head.as_bytes().first() {
+        Some(b'O') => LineKind::Object,
+        Some(b'S') => LineKind::State,
+        Some(b'M') => LineKind::Motion,
+        _ => LineKind::Blank,
+    };
+    if kind == LineKind::Blank || !head[1..].bytes().all(|b| b.is_ascii_digit()) {
+        let shown: String = head.chars().take(20).collect();
+        return Err((
+            1,
+            format!("unknown line kind '{shown}' (expected O, S, M, // or #, then a TAB)"),
+        ));
+    }
+    Ok(kind)
+}
+
+/// Scratch storage for the objects of the FU being read (flat, reused across FUs).
+#[derive(Default)]
+struct Block {
+    /// Per object: label, container, in-motion flag, and ranges into `states`/`ingredients`.
+    objects: Vec<ObjSpan>,
+    states: Vec<u32>,
+    ingredients: Vec<u32>,
+    motion: Option<(u32, u32)>,
+    /// Index in `objects` of the first output.
+    first_output: usize,
+    start_line: u64,
+    last_line: u64,
+    two_motions: bool,
+    has_lines: bool,
+}
+
+#[derive(Clone, Copy)]
+struct ObjSpan {
+    label: u32,
+    container: u32,
+    in_motion: u8,
+    states: (u32, u32),
+    ingredients: (u32, u32),
+}
+
+impl Block {
+    fn clear(&mut self) {
+        self.objects.clear();
+        self.states.clear();
+        self.ingredients.clear();
+        self.motion = None;
+        self.first_output = 0;
+        self.two_motions = false;
+        self.has_lines = false;
+    }
+
+    fn raw(&self, span: &ObjSpan) -> RawObject<'_> {
+        RawObject {
+            label: span.label,
+            states: &self.states[span.states.0 as usize..span.states.1 as usize],
+            ingredients: &self.ingredients
+                [span.ingredients.0 as usize..span.ingredients.1 as usize],
+            container: span.container,
+            in_motion: span.in_motion,
+        }
+    }
+}
+
+/// Parses FOON text into an index.
+pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Result<Foon> {
+    let mut b = Builder::new();
+    let mut block = Block::default();
+    let mut fields: Vec<(usize, &str)> = Vec::new();
+    let err = |line: u64, col: u32, reason: String| {
+        Error::parse(InputKind::Foon, path, line, col, reason)
+    };
+
+    let finish = |b: &mut Builder, block: &mut Block, end_line: Option<u64>| -> Result<()> {
+        if !block.has_lines {
+            block.clear();
+            return Ok(());
+        }
+        let warn_line = end_line.unwrap_or(block.last_line);
+        let warning = if block.two_motions {
+            None // already reported at the second motion line
+        } else if block.motion.is_none() {
+            Some((
+                warn_line,
+                WarningKind::NoMotion,
+                format!(
+                    "functional unit starting at line {} has no motion line; it is dropped",
+                    block.start_line
+                ),
+            ))
+        } else if end_line.is_none() {
+            Some((
+                warn_line,
+                WarningKind::Unterminated,
+                "the last functional unit has no closing '//'; it is kept".to_owned(),
+            ))
+        } else {
+            None
+        };
+        if let Some((line, kind, message)) = warning {
+            if opts.strict {
+                return Err(err(line, 1, format!("{message} (strict mode)")));
+            }
+            b.warn(Warning {
+                at: Location::new(path, line, 1),
+                kind,
+                message,
+            });
+        }
+        if let (Some((motion, meta)), false) = (block.motion, block.two_motions) {
+            let inputs: Vec<RawObject<'_>> = block.objects[..block.first_output]
+                .iter()
+                .map(|s| block.raw(s))
+                .collect();
+            let outputs: Vec<RawObject<'_>> = block.objects[block.first_output..]
+                .iter()
+                .map(|s| block.raw(s))
+                .collect();
+            let _ = b.add_fu(motion, meta, &inputs, &outputs, block.start_line as u32);
+        }
+        block.clear();
+        Ok(())
+    };
+
+    for line in Lines::new(data, path, InputKind::Foon) {
+        let line = line?;
+        let kind = classify(&line, &mut fields).map_err(|(c, r)| err(line.number, c, r))?;
+        match kind {
+            LineKind::Blank | LineKind::Comment => continue,
+            LineKind::End => {
+                finish(&mut b, &mut block, Some(line.number))?;
+                continue;
+            }
+            _ => {}
+        }
+        if !block.has_lines {
+            block.has_lines = true;
+            block.start_line = line.number;
+        }
+        block.last_line = line.number;
+        let Some(&(f1_off, f1)) = fields.get(1) else {
+            let what = match kind {
+                LineKind::Object => "object label",
+                LineKind::State => "state",
+                _ => "motion",
+            };
+            return Err(err(
+                line.number,
+                line.column_of(line.text.len()) + 1,
+                format!("missing {what} (no TAB-separated field)"),
+            ));
+        };
+        let value = normalise(f1);
+        if value.is_empty() && !(kind == LineKind::State && fields.len() > 2) {
+            let what = match kind {
+                LineKind::Object => "object label",
+                LineKind::State => "state",
+                _ => "motion",
+            };
+            return Err(err(
+                line.number,
+                line.column_of(f1_off),
+                format!("empty {what}"),
+            ));
+        }
+        match kind {
+            LineKind::Object => {
+                let label = b.intern(&value);
+                let in_motion = match fields.get(2).map(|(_, f)| f.trim()) {
+                    Some("0") => 0,
+                    Some("1") => 1,
+                    _ => 2,
+                };
+                let n_states = block.states.len() as u32;
+                let n_ingr = block.ingredients.len() as u32;
+                block.objects.push(ObjSpan {
+                    label,
+                    container: NONE,
+                    in_motion,
+                    states: (n_states, n_states),
+                    ingredients: (n_ingr, n_ingr),
+                });
+            }
+            LineKind::State => {
+                let first_of_fu = if block.motion.is_some() {
+                    block.first_output
+                } else {
+                    0
+                };
+                if block.objects.len() <= first_of_fu {
+                    return Err(err(
+                        line.number,
+                        1,
+                        "state line before any object of this functional unit".to_owned(),
+                    ));
+                }
+                if let Some(&(f2_off, f2)) = fields.get(2) {
+                    let v = f2.trim_end();
+                    let col = line.column_of(f2_off);
+                    if let Some(inner) = v.strip_prefix('{') {
+                        let Some(inner) = inner.strip_suffix('}') else {
+                            return Err(err(
+                                line.number,
+                                col,
+                                "ingredient list has no closing '}'".to_owned(),
+                            ));
+                        };
+                        let start = block.ingredients.len() as u32;
+                        for ing in inner.split(',') {
+                            let id = b.intern(ing);
+                            block.ingredients.push(id);
+                        }
+                        // A later list replaces an earlier one (course behaviour), so the
+                        // object's range is the latest list.
+                        let end = block.ingredients.len() as u32;
+                        if let Some(o) = block.objects.last_mut() {
+                            o.ingredients = (start, end);
+                        }
+                    } else if let Some(inner) = v.strip_prefix('[') {
+                        let Some(inner) = inner.strip_suffix(']') else {
+                            return Err(err(
+                                line.number,
+                                col,
+                                "container has no closing ']'".to_owned(),
+                            ));
+                        };
+                        let id = b.intern(inner);
+                        if let Some(o) = block.objects.last_mut() {
+                            o.container = id;
+                        }
+                    } else {
+                        let shown: String = v.chars().take(30).collect();
+                        return Err(err(
+                            line.number,
+                            col,
+                            format!(
+                                "expected '{{ingredients}}' or '[container]' in the third field, found '{shown}'"
+                            ),
+                        ));
+                    }
+                } else {
+                    let id = b.intern(&value);
+                    push_state(&mut block, id);
+                }
+            }
+            LineKind::Motion => {
+                if block.motion.is_some() {
+                    if !block.two_motions {
+                        block.two_motions = true;
+                        let message = format!(
+                            "functional unit starting at line {} has a second motion line; it is dropped",
+                            block.start_line
+                        );
+                        if opts.strict {
+                            return Err(err(line.number, 1, format!("{message} (strict mode)")));
+                        }
+                        b.warn(Warning {
+                            at: Location::new(path, line.number, 1),
+                            kind: WarningKind::TwoMotions,
+                            message,
+                        });
+                    }
+                    continue;
+                }
+                let motion = b.intern(&value);
+                let meta = if fields.len() > 2 {
+                    let rest: Vec<&str> = fields[2..].iter().map(|(_, f)| f.trim()).collect();
+                    b.intern(&rest.join("\t"))
+                } else {
+                    NONE
+                };
+                block.motion = Some((motion, meta));
+                block.first_output = block.objects.len();
+            }
+            _ => {}
+        }
+    }
+    finish(&mut b, &mut block, None)?;
+    Ok(b.finish(path.map(Path::to_path_buf)))
+}
+
+/// Appends a plain state to the last object of the block (its states are the last ones
+/// pushed, since an object's lines are contiguous).
+fn push_state(block: &mut Block, id: u32) {
+    block.states.push(id);
+    let end = block.states.len() as u32;
+    if let Some(o) = block.objects.last_mut() {
+        o.states.1 = end;
+    }
+}
+
+/// Reads a file and parses it as FOON text.
+pub fn load_foon(path: &Path, opts: ParseOptions) -> Result<Foon> {
+    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_foon(&data, Some(path), opts)
+}

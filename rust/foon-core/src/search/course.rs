@@ -1,0 +1,89 @@
+//! The course loop (`bfs`, and `greedy-*` with course compatibility): breadth-first from the
+//! goal, one producer per object, exactly as the course code, except that an object with no
+//! producer is reported instead of crashing.
+
+use std::collections::VecDeque;
+
+use super::{Context, Method, Plan, Query};
+use crate::error::Result;
+
+pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
+    let foon = ctx.foon;
+    let mut queue = VecDeque::from([goal]);
+    let mut in_queue = vec![false; foon.object_count()];
+    let mut visited = vec![false; foon.object_count()];
+    let mut in_tree = vec![false; foon.fu_count()];
+    in_queue[goal as usize] = true;
+    let mut tree = Vec::new();
+    let mut unresolved = Vec::new();
+    let mut expanded = 0u64;
+    let mut peak = 1usize;
+    while let Some(o) = queue.pop_front() {
+        in_queue[o as usize] = false;
+        if std::mem::replace(&mut visited[o as usize], true) {
+            continue;
+        }
+        if ctx.in_kitchen(o) {
+            continue;
+        }
+        expanded += 1;
+        if expanded % 4096 == 0 {
+            ctx.check_stop()?;
+        }
+        let prods = foon.producers(o);
+        if prods.is_empty() {
+            unresolved.push(o);
+            continue;
+        }
+        let f = choose(ctx, prods, query)?;
+        if std::mem::replace(&mut in_tree[f as usize], true) {
+            continue;
+        }
+        tree.push(f);
+        for &x in ctx.needed(f) {
+            if !in_queue[x as usize] {
+                in_queue[x as usize] = true;
+                queue.push_back(x);
+            }
+        }
+        peak = peak.max(queue.len());
+    }
+    tree.reverse();
+    Ok(Plan {
+        solved: unresolved.is_empty(),
+        units: tree,
+        unresolved,
+        expanded,
+        peak_frontier: peak,
+        ..ctx.empty_plan(goal, query)
+    })
+}
+
+/// The course's choice among the producers (in file order) of an object.
+fn choose(ctx: &Context<'_>, prods: &[u32], query: Query) -> Result<u32> {
+    let mut best = prods[0];
+    match query.method {
+        Method::GreedySuccess => {
+            let mut best_rate = ctx.rate(best)?;
+            for &f in &prods[1..] {
+                let r = ctx.rate(f)?;
+                if r > best_rate {
+                    best = f;
+                    best_rate = r;
+                }
+            }
+        }
+        Method::GreedyInputs => {
+            let mut best_n = ctx.input_count(best, query.count);
+            for &f in &prods[1..] {
+                let n = ctx.input_count(f, query.count);
+                if n < best_n {
+                    best = f;
+                    best_n = n;
+                }
+            }
+        }
+        _ => {}
+    }
+    Ok(best)
+}

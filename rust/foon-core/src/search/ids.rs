@@ -1,0 +1,176 @@
+//! Iterative deepening: a depth-limited search run with limits 1, 2, 4, ... until the goal is
+//! found. The depth-limited search is memoised over the index (exact ranks once known, and the
+//! largest limit each object failed at), which makes the whole deepening linear in practice,
+//! and it keeps its own stack, so a chain a million steps deep needs no call stack.
+
+use super::{Context, Plan, Query, tree};
+use crate::error::Result;
+use crate::index::NONE;
+
+struct Memo {
+    /// Exact rank, when known.
+    rank: Vec<u32>,
+    /// `l + 1` where `l` is the largest limit known to fail (0: none).
+    failed: Vec<u32>,
+    /// Lowest-index producer achieving the rank.
+    choice: Vec<u32>,
+}
+
+impl Memo {
+    /// The answer of `dls(o, l)` when the memo already knows it.
+    #[inline]
+    fn quick(&self, ctx: &Context<'_>, o: u32, l: u32) -> Option<Option<u32>> {
+        if ctx.in_kitchen(o) {
+            return Some(Some(0));
+        }
+        let r = self.rank[o as usize];
+        if r != NONE {
+            return Some((r <= l).then_some(r));
+        }
+        if l == 0 || self.failed[o as usize] > l || !ctx.ranks().is_derivable(o) {
+            return Some(None);
+        }
+        None
+    }
+}
+
+struct Frame {
+    obj: u32,
+    limit: u32,
+    /// Largest value still worth finding (the limit, then one less than the best so far).
+    cap: u32,
+    producer: usize,
+    input: usize,
+    max: u32,
+    best: u32,
+    best_fu: u32,
+}
+
+struct Stats {
+    expanded: u64,
+    peak: usize,
+}
+
+/// Depth-limited search: the rank of `root` if it is at most `limit`.
+fn dls(
+    ctx: &Context<'_>,
+    memo: &mut Memo,
+    root: u32,
+    limit: u32,
+    stats: &mut Stats,
+) -> Result<Option<u32>> {
+    if let Some(r) = memo.quick(ctx, root, limit) {
+        return Ok(r);
+    }
+    let new_frame = |obj, limit| Frame {
+        obj,
+        limit,
+        cap: limit,
+        producer: 0,
+        input: 0,
+        max: 0,
+        best: NONE,
+        best_fu: NONE,
+    };
+    let mut stack = vec![new_frame(root, limit)];
+    stats.expanded += 1;
+    let mut child: Option<Option<u32>> = None;
+    let mut result = None;
+    'frames: while let Some(top) = stack.last_mut() {
+        if let Some(r) = child.take() {
+            match r {
+                Some(rx) => {
+                    top.max = top.max.max(rx);
+                    top.input += 1;
+                }
+                None => {
+                    top.producer += 1;
+                    top.input = 0;
+                    top.max = 0;
+                }
+            }
+        }
+        let prods = ctx.foon.producers(top.obj);
+        loop {
+            if top.cap == 0 || top.producer >= prods.len() {
+                let (o, l) = (top.obj, top.limit);
+                let r = if top.best == NONE {
+                    let f = &mut memo.failed[o as usize];
+                    *f = (*f).max(l + 1);
+                    None
+                } else {
+                    memo.rank[o as usize] = top.best;
+                    memo.choice[o as usize] = top.best_fu;
+                    Some(top.best)
+                };
+                stack.pop();
+                if stack.is_empty() {
+                    result = r;
+                } else {
+                    child = Some(r);
+                }
+                continue 'frames;
+            }
+            let f = prods[top.producer];
+            let ins = ctx.needed(f);
+            if top.input == ins.len() {
+                let value = top.max + 1;
+                top.best = value;
+                top.best_fu = f;
+                top.cap = value - 1;
+                top.producer += 1;
+                top.input = 0;
+                top.max = 0;
+                continue;
+            }
+            let x = ins[top.input];
+            match memo.quick(ctx, x, top.cap - 1) {
+                Some(Some(r)) => {
+                    top.max = top.max.max(r);
+                    top.input += 1;
+                }
+                Some(None) => {
+                    top.producer += 1;
+                    top.input = 0;
+                    top.max = 0;
+                }
+                None => {
+                    let l = top.cap - 1;
+                    stack.push(new_frame(x, l));
+                    stats.expanded += 1;
+                    stats.peak = stats.peak.max(stack.len());
+                    if stats.expanded % 4096 == 0 {
+                        ctx.check_stop()?;
+                    }
+                    continue 'frames;
+                }
+            }
+        }
+    }
+    Ok(result)
+}
+
+pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
+    let n = ctx.foon.object_count();
+    let mut memo = Memo {
+        rank: vec![NONE; n],
+        failed: vec![0; n],
+        choice: vec![NONE; n],
+    };
+    let mut stats = Stats {
+        expanded: 0,
+        peak: 1,
+    };
+    let mut limit = 1u32;
+    // The goal is derivable (the caller checked), so some limit up to its rank succeeds.
+    while dls(ctx, &mut memo, goal, limit, &mut stats)?.is_none() {
+        limit = limit.saturating_mul(2);
+    }
+    let units = tree::emit(ctx, goal, &memo.choice);
+    Ok(Plan {
+        units,
+        expanded: stats.expanded,
+        peak_frontier: stats.peak,
+        ..ctx.empty_plan(goal, query)
+    })
+}

@@ -1,0 +1,522 @@
+//! Task-tree retrieval over the compact index. Every search is a plain function of an
+//! immutable [`Context`] (no global state), so many goals can be planned in parallel.
+//! The exact definitions are in `docs/METHODS.md`.
+
+mod course;
+mod forward;
+mod greedy;
+mod ids;
+mod optimal;
+mod tree;
+
+use std::str::FromStr;
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use rustc_hash::FxHashSet;
+
+use crate::companion::{MotionRates, ObjectSpec};
+use crate::error::{Error, Result};
+use crate::index::{Csr, Foon};
+
+pub use forward::Ranks;
+
+/// A planning method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Method {
+    Bfs,
+    Ids,
+    GreedySuccess,
+    GreedyInputs,
+    OptimalSuccess,
+    OptimalUnits,
+    OptimalInputs,
+}
+
+impl Method {
+    pub const ALL: [Method; 7] = [
+        Self::Bfs,
+        Self::Ids,
+        Self::GreedySuccess,
+        Self::GreedyInputs,
+        Self::OptimalSuccess,
+        Self::OptimalUnits,
+        Self::OptimalInputs,
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Bfs => "bfs",
+            Self::Ids => "ids",
+            Self::GreedySuccess => "greedy-success",
+            Self::GreedyInputs => "greedy-inputs",
+            Self::OptimalSuccess => "optimal-success",
+            Self::OptimalUnits => "optimal-units",
+            Self::OptimalInputs => "optimal-inputs",
+        }
+    }
+
+    /// Whether this method needs motion rates to choose.
+    pub fn uses_rates(self) -> bool {
+        matches!(self, Self::GreedySuccess | Self::OptimalSuccess)
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.as_str() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
+                Error::Invalid(format!(
+                    "unknown method '{s}' (choose from {})",
+                    names.join(", ")
+                ))
+            })
+    }
+}
+
+/// Which semantics: the course code's, or sound (always executable) trees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Compat {
+    #[default]
+    Sound,
+    Course,
+}
+
+impl FromStr for Compat {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "sound" | "none" => Ok(Self::Sound),
+            "course" => Ok(Self::Course),
+            _ => Err(Error::Invalid(format!(
+                "unknown compatibility '{s}' (choose from course, sound)"
+            ))),
+        }
+    }
+}
+
+/// How `greedy-inputs` counts the inputs of an FU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Count {
+    #[default]
+    Nodes,
+    Ingredients,
+}
+
+impl FromStr for Count {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "nodes" => Ok(Self::Nodes),
+            "ingredients" => Ok(Self::Ingredients),
+            _ => Err(Error::Invalid(format!(
+                "unknown count '{s}' (choose from nodes, ingredients)"
+            ))),
+        }
+    }
+}
+
+/// Options of one planning call.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Query {
+    pub method: Method,
+    pub compat: Compat,
+    pub count: Count,
+}
+
+impl Default for Query {
+    fn default() -> Self {
+        Self {
+            method: Method::Ids,
+            compat: Compat::Sound,
+            count: Count::Nodes,
+        }
+    }
+}
+
+/// Why a sound search failed.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Explanation {
+    /// Raw items outside the kitchen that a tree would need (ids, in id order).
+    pub missing: Vec<u32>,
+    /// When only cycles block the goal: the objects of one blocking cycle, in order, and the
+    /// FUs that lead from each to the next.
+    pub cycle: Vec<u32>,
+    pub cycle_units: Vec<u32>,
+}
+
+/// A planning result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    pub goal: u32,
+    pub query: Query,
+    pub solved: bool,
+    /// FU indices, in output order.
+    pub units: Vec<u32>,
+    /// Course methods: objects reached that are neither in the kitchen nor produced.
+    pub unresolved: Vec<u32>,
+    /// Sound methods that failed: why.
+    pub explanation: Option<Explanation>,
+    pub height: Option<u32>,
+    pub success: Option<f64>,
+    /// Optimal methods: the optimum of the cost they minimise.
+    pub cost: Option<f64>,
+    pub leaf_inputs: usize,
+    pub expanded: u64,
+    pub peak_frontier: usize,
+    pub seconds: f64,
+}
+
+/// Everything planning needs besides the goal: the FOON, the kitchen, the utensils (container
+/// rule), the motion rates. Built once, then shared by any number of searches and threads.
+pub struct Context<'a> {
+    pub foon: &'a Foon,
+    in_kitchen: Vec<bool>,
+    kitchen_objects: Vec<u32>,
+    /// Needed inputs of each FU (container rule applied), in input order.
+    needed: Csr,
+    /// For each object, the FUs where it is a needed input (one entry per slot).
+    needed_by: Csr,
+    fu_rate: Vec<f64>,
+    rates_given: bool,
+    ranks: OnceLock<Ranks>,
+    stop: Option<&'a AtomicBool>,
+}
+
+impl<'a> Context<'a> {
+    /// Builds the context. `rates` may be `None`; `default_rate` fills motions missing from it.
+    pub fn new(
+        foon: &'a Foon,
+        kitchen: &[ObjectSpec],
+        utensils: &[String],
+        rates: Option<&MotionRates>,
+        default_rate: Option<f64>,
+    ) -> Result<Self> {
+        if let Some(r) = default_rate {
+            if !(0.0..=1.0).contains(&r) {
+                return Err(Error::Invalid(format!(
+                    "default rate must be between 0 and 1, not {r}"
+                )));
+            }
+        }
+        let n = foon.object_count();
+        let mut in_kitchen = vec![false; n];
+        let mut kitchen_objects = Vec::new();
+        for item in kitchen {
+            if let Some(o) = item.find_in(foon) {
+                if !in_kitchen[o as usize] {
+                    in_kitchen[o as usize] = true;
+                    kitchen_objects.push(o);
+                }
+            }
+        }
+        kitchen_objects.sort_unstable();
+        let utensil_ids: FxHashSet<u32> = utensils
+            .iter()
+            .filter_map(|u| foon.strings().get(u))
+            .collect();
+        let needed = needed_inputs(foon, &utensil_ids);
+        let n_fu = foon.fu_count() as u32;
+        let needed_by = Csr::from_pairs(
+            n,
+            (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
+        );
+        let fu_rate = (0..n_fu)
+            .map(|f| {
+                rates
+                    .and_then(|r| r.get(foon.motion_text(f)))
+                    .or(default_rate)
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+        Ok(Self {
+            foon,
+            in_kitchen,
+            kitchen_objects,
+            needed,
+            needed_by,
+            fu_rate,
+            rates_given: rates.is_some() || default_rate.is_some(),
+            ranks: OnceLock::new(),
+            stop: None,
+        })
+    }
+
+    /// Makes long searches check `stop` and return [`Error::Cancelled`] once it is set.
+    #[must_use]
+    pub fn with_stop(mut self, stop: &'a AtomicBool) -> Self {
+        self.stop = Some(stop);
+        self
+    }
+
+    #[inline]
+    pub fn in_kitchen(&self, o: u32) -> bool {
+        self.in_kitchen[o as usize]
+    }
+
+    /// Kitchen objects of the FOON, in id order.
+    pub fn kitchen_objects(&self) -> &[u32] {
+        &self.kitchen_objects
+    }
+
+    /// Needed inputs of `fu` (after the container rule).
+    #[inline]
+    pub fn needed(&self, fu: u32) -> &[u32] {
+        self.needed.row(fu)
+    }
+
+    /// Success rate of `fu`'s motion, or the error naming the motion.
+    pub fn rate(&self, fu: u32) -> Result<f64> {
+        let r = self.fu_rate[fu as usize];
+        if r.is_nan() {
+            Err(Error::MissingRate {
+                motion: self.foon.motion_text(fu).to_owned(),
+            })
+        } else {
+            Ok(r)
+        }
+    }
+
+    /// Ranks and derivability from the kitchen (computed once, on first use).
+    pub fn ranks(&self) -> &Ranks {
+        self.ranks.get_or_init(|| forward::ranks(self, None, None))
+    }
+
+    fn check_stop(&self) -> Result<()> {
+        match self.stop {
+            Some(s) if s.load(Ordering::Relaxed) => Err(Error::Cancelled),
+            _ => Ok(()),
+        }
+    }
+
+    /// The goal object for a spec, or the course's error.
+    pub fn goal(&self, spec: &ObjectSpec) -> Result<u32> {
+        spec.find_in(self.foon).ok_or_else(|| Error::GoalNotFound {
+            goal: spec.describe(),
+        })
+    }
+
+    /// Heuristic key of `fu` for `inputs` ordering (smaller is better).
+    fn input_count(&self, fu: u32, count: Count) -> usize {
+        let foon = self.foon;
+        let ins = foon.inputs(fu);
+        match count {
+            Count::Nodes => ins.len(),
+            Count::Ingredients => {
+                let mut labels: Vec<u32> = Vec::new();
+                for &o in ins {
+                    let ing = foon.ingredients(o);
+                    if ing.is_empty() {
+                        labels.push(foon.label(o));
+                    } else {
+                        labels.extend_from_slice(ing);
+                    }
+                }
+                labels.sort_unstable();
+                labels.dedup();
+                labels.len()
+            }
+        }
+    }
+
+    /// Orders `cands` best first for the heuristic of `query` (stable: ties keep index order).
+    fn order(&self, cands: &mut [u32], query: Query) -> Result<()> {
+        match query.method {
+            Method::GreedySuccess => {
+                for &f in cands.iter() {
+                    self.rate(f)?;
+                }
+                cands.sort_by(|&a, &b| {
+                    self.fu_rate[b as usize]
+                        .total_cmp(&self.fu_rate[a as usize])
+                        .then(a.cmp(&b))
+                });
+            }
+            Method::GreedyInputs => {
+                cands.sort_by_key(|&f| (self.input_count(f, query.count), f));
+            }
+            _ => cands.sort_unstable(),
+        }
+        Ok(())
+    }
+
+    /// Plans one goal.
+    pub fn plan(&self, goal: u32, query: Query) -> Result<Plan> {
+        let start = Instant::now();
+        if goal as usize >= self.foon.object_count() {
+            return Err(Error::Invalid(format!("object {goal} is out of range")));
+        }
+        let mut plan = match (query.compat, query.method) {
+            (
+                Compat::Course,
+                Method::OptimalSuccess | Method::OptimalUnits | Method::OptimalInputs,
+            ) => {
+                return Err(Error::Invalid(format!(
+                    "method {} has no course-compatible form",
+                    query.method.as_str()
+                )));
+            }
+            (_, Method::Bfs) | (Compat::Course, _) => course::plan(self, goal, query)?,
+            (Compat::Sound, method) => {
+                if self.in_kitchen(goal) {
+                    let mut p = self.empty_plan(goal, query);
+                    if matches!(method, Method::OptimalSuccess | Method::OptimalUnits) {
+                        p.cost = Some(0.0);
+                    } else if method == Method::OptimalInputs {
+                        p.cost = Some(1.0);
+                    }
+                    p
+                } else if self.ranks().rank(goal).is_none() {
+                    let mut p = self.empty_plan(goal, query);
+                    p.solved = false;
+                    p.explanation = Some(optimal::explain(self, goal)?);
+                    p
+                } else {
+                    match method {
+                        Method::Ids => ids::plan(self, goal, query)?,
+                        Method::GreedySuccess | Method::GreedyInputs => {
+                            greedy::plan(self, goal, query)?
+                        }
+                        _ => optimal::plan(self, goal, query)?,
+                    }
+                }
+            }
+        };
+        self.fill_metrics(&mut plan);
+        plan.seconds = start.elapsed().as_secs_f64();
+        Ok(plan)
+    }
+
+    fn empty_plan(&self, goal: u32, query: Query) -> Plan {
+        Plan {
+            goal,
+            query,
+            solved: true,
+            units: Vec::new(),
+            unresolved: Vec::new(),
+            explanation: None,
+            height: None,
+            success: None,
+            cost: None,
+            leaf_inputs: 0,
+            expanded: 0,
+            peak_frontier: 0,
+            seconds: 0.0,
+        }
+    }
+
+    fn fill_metrics(&self, plan: &mut Plan) {
+        let m = self.metrics(&plan.units, plan.goal);
+        plan.height = m.height;
+        plan.success = m.success;
+        plan.leaf_inputs = m.leaf_inputs;
+    }
+
+    /// Height, success and leaf count of a set of FUs for `goal`.
+    pub fn metrics(&self, units: &[u32], goal: u32) -> TreeMetrics {
+        let mut mask = vec![false; self.foon.fu_count()];
+        for &f in units {
+            if let Some(m) = mask.get_mut(f as usize) {
+                *m = true;
+            }
+        }
+        let height = if self.in_kitchen(goal) {
+            Some(0)
+        } else {
+            forward::ranks(self, Some(&mask), None).rank(goal)
+        };
+        let success = if self.rates_given {
+            units
+                .iter()
+                .try_fold(1.0, |acc, &f| self.rate(f).ok().map(|r| acc * r))
+        } else {
+            None
+        };
+        let mut seen = FxHashSet::default();
+        for &f in units {
+            for &x in self.needed(f) {
+                if self.in_kitchen(x) {
+                    seen.insert(x);
+                }
+            }
+        }
+        TreeMetrics {
+            height,
+            success,
+            leaf_inputs: seen.len(),
+        }
+    }
+
+    /// Whether the FUs `units` (in any order) make `goal` from the kitchen.
+    pub fn is_valid(&self, units: &[u32], goal: u32) -> bool {
+        self.metrics(units, goal).height.is_some()
+    }
+
+    /// Checks `units` in the given order: returns the position of the first FU with a needed
+    /// input that is neither in the kitchen nor made by an earlier FU, with those inputs.
+    pub fn first_unavailable(&self, units: &[u32]) -> Option<(usize, Vec<u32>)> {
+        let mut avail = self.in_kitchen.clone();
+        for (i, &f) in units.iter().enumerate() {
+            let missing: Vec<u32> = self
+                .needed(f)
+                .iter()
+                .copied()
+                .filter(|&x| !avail[x as usize])
+                .collect();
+            if !missing.is_empty() {
+                return Some((i, missing));
+            }
+            for &y in self.foon.outputs(f) {
+                if !self.foon.is_bare(y) {
+                    avail[y as usize] = true;
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Metrics of a tree.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TreeMetrics {
+    pub height: Option<u32>,
+    pub success: Option<f64>,
+    pub leaf_inputs: usize,
+}
+
+/// Needed inputs of every FU: the container rule removes an input whose label is a utensil
+/// and whose ingredients are exactly `[x]` when another input of the FU is labelled `x` and
+/// sits in that utensil.
+fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
+    let mut out = Csr::new();
+    let mut row = Vec::new();
+    for f in 0..foon.fu_count() as u32 {
+        let ins = foon.inputs(f);
+        row.clear();
+        for (i, &o) in ins.iter().enumerate() {
+            let ing = foon.ingredients(o);
+            let skip = ing.len() == 1
+                && utensils.contains(&foon.label(o))
+                && ins.iter().enumerate().any(|(j, &p)| {
+                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
+                });
+            if !skip {
+                row.push(o);
+            }
+        }
+        out.push_row(&row);
+    }
+    out
+}
+
+/// Plans many goals at once over all cores (the context is built once).
+pub fn plan_many(ctx: &Context<'_>, goals: &[u32], query: Query) -> Vec<Result<Plan>> {
+    use rayon::prelude::*;
+    let _ = ctx.ranks();
+    goals.par_iter().map(|&g| ctx.plan(g, query)).collect()
+}
