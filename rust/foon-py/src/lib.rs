@@ -1,1 +1,505 @@
+//! `foon._foon`: the thin PyO3 layer over `foon-core` (conversions, errors, GIL release).
+//! No algorithm lives here.
 
+mod errors;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use foon_core::companion::{self, MotionRates, ObjectSpec};
+use foon_core::search::{self, Compat, Context, Count, Method, Plan, Query};
+use foon_core::{InputKind, ParseOptions, write};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict, PyString};
+
+use errors::{PyFoonResult, run_detached};
+
+/// An object as Python sees it: (label, states, ingredients, container).
+type ObjTuple = (String, Vec<String>, Vec<String>, Option<String>);
+
+fn spec_of(t: ObjTuple) -> ObjectSpec {
+    ObjectSpec {
+        label: t.0,
+        states: t.1,
+        ingredients: t.2,
+        container: t.3,
+    }
+}
+
+fn tuple_of(s: ObjectSpec) -> ObjTuple {
+    (s.label, s.states, s.ingredients, s.container)
+}
+
+fn kind_of(kind: &str) -> PyResult<InputKind> {
+    match kind {
+        "kitchen" => Ok(InputKind::Kitchen),
+        "goal" => Ok(InputKind::Goal),
+        _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "unknown object list kind '{kind}'"
+        ))),
+    }
+}
+
+fn text_bytes(text: &Bound<'_, PyAny>) -> PyResult<Vec<u8>> {
+    if let Ok(s) = text.cast::<PyString>() {
+        Ok(s.to_str()?.as_bytes().to_vec())
+    } else if let Ok(b) = text.cast::<PyBytes>() {
+        Ok(b.as_bytes().to_vec())
+    } else {
+        Err(pyo3::exceptions::PyTypeError::new_err(
+            "expected str or bytes",
+        ))
+    }
+}
+
+/// A parsed FOON (immutable; safe to share between threads).
+#[pyclass(frozen, module = "foon._foon", name = "Foon")]
+struct PyFoon {
+    inner: Arc<foon_core::Foon>,
+}
+
+/// Planning inputs, converted once.
+struct Setting {
+    kitchen: Vec<ObjectSpec>,
+    utensils: Vec<String>,
+    rates: Option<MotionRates>,
+    default_rate: Option<f64>,
+    query: Query,
+}
+
+impl Setting {
+    fn new(
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        rates: Option<Vec<(String, f64)>>,
+        default_rate: Option<f64>,
+        method: &str,
+        compat: &str,
+        count: &str,
+    ) -> PyFoonResult<Self> {
+        let query = Query {
+            method: method.parse()?,
+            compat: compat.parse()?,
+            count: count.parse()?,
+        };
+        let rates = rates.map(MotionRates::from_pairs).transpose()?;
+        Ok(Self {
+            kitchen: kitchen.into_iter().map(spec_of).collect(),
+            utensils,
+            rates,
+            default_rate,
+            query,
+        })
+    }
+
+    fn context<'a>(&'a self, foon: &'a foon_core::Foon) -> foon_core::Result<Context<'a>> {
+        Context::new(
+            foon,
+            &self.kitchen,
+            &self.utensils,
+            self.rates.as_ref(),
+            self.default_rate,
+        )
+    }
+}
+
+fn plan_dict<'py>(py: Python<'py>, p: &Plan) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("goal", p.goal)?;
+    d.set_item("method", p.query.method.as_str())?;
+    d.set_item(
+        "compat",
+        if p.query.compat == Compat::Course {
+            "course"
+        } else {
+            "sound"
+        },
+    )?;
+    d.set_item(
+        "count",
+        if p.query.count == Count::Ingredients {
+            "ingredients"
+        } else {
+            "nodes"
+        },
+    )?;
+    d.set_item("solved", p.solved)?;
+    d.set_item("units", &p.units)?;
+    d.set_item("unresolved", &p.unresolved)?;
+    let (missing, cycle, cycle_units) = p
+        .explanation
+        .as_ref()
+        .map(|e| (e.missing.clone(), e.cycle.clone(), e.cycle_units.clone()))
+        .unwrap_or_default();
+    d.set_item("missing", missing)?;
+    d.set_item("cycle", cycle)?;
+    d.set_item("cycle_units", cycle_units)?;
+    d.set_item("height", p.height)?;
+    d.set_item("success", p.success)?;
+    d.set_item("cost", p.cost)?;
+    d.set_item("leaf_inputs", p.leaf_inputs)?;
+    d.set_item("expanded", p.expanded)?;
+    d.set_item("peak_frontier", p.peak_frontier)?;
+    d.set_item("seconds", p.seconds)?;
+    Ok(d)
+}
+
+#[pymethods]
+impl PyFoon {
+    /// Reads and parses a FOON file (any dialect).
+    #[staticmethod]
+    #[pyo3(signature = (path, *, strict = false))]
+    fn load(py: Python<'_>, path: PathBuf, strict: bool) -> PyResult<Self> {
+        let foon = run_detached(py, || foon_core::load_foon(&path, ParseOptions { strict }))?;
+        Ok(Self {
+            inner: Arc::new(foon),
+        })
+    }
+
+    /// Parses FOON text (`str` or `bytes`); `path` only names the source in messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, *, strict = false, path = None))]
+    fn from_text(
+        py: Python<'_>,
+        text: &Bound<'_, PyAny>,
+        strict: bool,
+        path: Option<PathBuf>,
+    ) -> PyResult<Self> {
+        let data = text_bytes(text)?;
+        let foon = run_detached(py, || {
+            foon_core::parse_foon(&data, path.as_deref(), ParseOptions { strict })
+        })?;
+        Ok(Self {
+            inner: Arc::new(foon),
+        })
+    }
+
+    #[getter]
+    fn fu_count(&self) -> usize {
+        self.inner.fu_count()
+    }
+
+    #[getter]
+    fn object_count(&self) -> usize {
+        self.inner.object_count()
+    }
+
+    #[getter]
+    fn source(&self) -> Option<String> {
+        self.inner.source().map(|p| p.display().to_string())
+    }
+
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.inner.stats();
+        let d = PyDict::new(py);
+        d.set_item("functional_units", s.functional_units)?;
+        d.set_item("objects", s.objects)?;
+        d.set_item("produced_objects", s.produced_objects)?;
+        d.set_item("motions", s.motions)?;
+        d.set_item("strings", s.strings)?;
+        d.set_item("input_edges", s.input_edges)?;
+        d.set_item("output_edges", s.output_edges)?;
+        d.set_item("duplicates_dropped", s.duplicates_dropped)?;
+        d.set_item("warnings", s.warnings)?;
+        d.set_item("index_bytes", s.index_bytes)?;
+        Ok(d)
+    }
+
+    /// Warnings of the load: (path, line, column, kind, message).
+    fn warnings(&self) -> Vec<(Option<String>, u64, u32, &'static str, String)> {
+        self.inner
+            .warnings()
+            .iter()
+            .map(|w| {
+                let p = w.at.path.as_ref().map(|p| p.display().to_string());
+                (
+                    p,
+                    w.at.line,
+                    w.at.column,
+                    w.kind.as_str(),
+                    w.message.clone(),
+                )
+            })
+            .collect()
+    }
+
+    /// Dropped duplicate FUs: (line of the dropped copy, index of the kept one).
+    fn duplicates(&self) -> Vec<(u32, u32)> {
+        self.inner
+            .duplicates()
+            .iter()
+            .map(|d| (d.line, d.of))
+            .collect()
+    }
+
+    /// Object `o` in its first written form: (label, states, ingredients, container).
+    fn object(&self, o: u32) -> PyResult<ObjTuple> {
+        self.check_object(o)?;
+        Ok(tuple_of(ObjectSpec::of_object(&self.inner, o)))
+    }
+
+    /// FU `f`: (motion, input object ids, output object ids, source line).
+    fn fu(&self, f: u32) -> PyResult<(String, Vec<u32>, Vec<u32>, u32)> {
+        self.check_fu(f)?;
+        let foon = &self.inner;
+        Ok((
+            foon.motion_text(f).to_owned(),
+            foon.inputs(f).to_vec(),
+            foon.outputs(f).to_vec(),
+            foon.fu_line(f),
+        ))
+    }
+
+    /// FU `f` in the course text form (ends with `//`).
+    fn fu_text(&self, f: u32) -> PyResult<String> {
+        self.check_fu(f)?;
+        let mut s = String::new();
+        write::fu_text(&self.inner, f, &mut s);
+        Ok(s)
+    }
+
+    /// A task tree in the course output file form.
+    fn tree_text(&self, units: Vec<u32>) -> PyResult<String> {
+        for &f in &units {
+            self.check_fu(f)?;
+        }
+        Ok(write::tree_text(&self.inner, &units))
+    }
+
+    /// The whole FOON in the course text form.
+    fn to_text(&self, py: Python<'_>) -> String {
+        let foon = &self.inner;
+        py.detach(|| write::foon_text(foon))
+    }
+
+    /// The id of the object with this identity, or None.
+    #[pyo3(signature = (label, states, ingredients, container))]
+    fn find(
+        &self,
+        label: &str,
+        states: Vec<String>,
+        ingredients: Vec<String>,
+        container: Option<String>,
+    ) -> Option<u32> {
+        let s: Vec<&str> = states.iter().map(String::as_str).collect();
+        let i: Vec<&str> = ingredients.iter().map(String::as_str).collect();
+        self.inner.find_object(label, &s, &i, container.as_deref())
+    }
+
+    fn objects_with_label(&self, label: &str) -> Vec<u32> {
+        self.inner.objects_with_label(label)
+    }
+
+    fn producers(&self, o: u32) -> PyResult<Vec<u32>> {
+        self.check_object(o)?;
+        Ok(self.inner.producers(o).to_vec())
+    }
+
+    fn consumers(&self, o: u32) -> PyResult<Vec<u32>> {
+        self.check_object(o)?;
+        Ok(self.inner.consumers(o).to_vec())
+    }
+
+    /// Plans every goal (object ids); returns one result dict per goal. With more than one
+    /// goal the work is spread over `threads` threads (all cores when None).
+    #[pyo3(signature = (goals, kitchen, utensils, rates, default_rate, method, compat, count, threads = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn plan<'py>(
+        &self,
+        py: Python<'py>,
+        goals: Vec<u32>,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        rates: Option<Vec<(String, f64)>>,
+        default_rate: Option<f64>,
+        method: &str,
+        compat: &str,
+        count: &str,
+        threads: Option<usize>,
+    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let setting = Setting::new(
+            kitchen,
+            utensils,
+            rates,
+            default_rate,
+            method,
+            compat,
+            count,
+        )?;
+        for &g in &goals {
+            self.check_object(g)?;
+        }
+        let foon = &self.inner;
+        let plans = run_detached(py, || {
+            let ctx = setting.context(foon)?;
+            if goals.len() <= 1 || threads == Some(1) {
+                goals
+                    .iter()
+                    .map(|&g| ctx.plan(g, setting.query))
+                    .collect::<Result<Vec<_>, _>>()
+            } else {
+                let run = || {
+                    search::plan_many(&ctx, &goals, setting.query)
+                        .into_iter()
+                        .collect::<Result<Vec<_>, _>>()
+                };
+                match threads {
+                    Some(n) => rayon::ThreadPoolBuilder::new()
+                        .num_threads(n)
+                        .build()
+                        .map_err(|e| foon_core::Error::Invalid(e.to_string()))?
+                        .install(run),
+                    None => run(),
+                }
+            }
+        })?;
+        plans.iter().map(|p| plan_dict(py, p)).collect()
+    }
+
+    /// Checks a tree: (valid in some order, height, first position in the given order whose
+    /// needed inputs are unavailable with those inputs).
+    #[pyo3(signature = (units, goal, kitchen, utensils))]
+    fn check_tree(
+        &self,
+        py: Python<'_>,
+        units: Vec<u32>,
+        goal: u32,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+    ) -> PyResult<(bool, Option<u32>, Option<(usize, Vec<u32>)>)> {
+        self.check_object(goal)?;
+        for &f in &units {
+            self.check_fu(f)?;
+        }
+        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
+        let foon = &self.inner;
+        run_detached(py, || {
+            let ctx = Context::new(foon, &kitchen, &utensils, None, None)?;
+            let m = ctx.metrics(&units, goal);
+            Ok((m.height.is_some(), m.height, ctx.first_unavailable(&units)))
+        })
+    }
+
+    /// Ranks from the kitchen: one entry per object (None when not derivable).
+    fn ranks(
+        &self,
+        py: Python<'_>,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+    ) -> PyResult<Vec<Option<u32>>> {
+        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
+        let foon = &self.inner;
+        run_detached(py, || {
+            let ctx = Context::new(foon, &kitchen, &utensils, None, None)?;
+            let r = ctx.ranks();
+            Ok((0..foon.object_count() as u32).map(|o| r.rank(o)).collect())
+        })
+    }
+
+    /// Object ids of the kitchen items found in this FOON, in id order.
+    fn kitchen_objects(&self, kitchen: Vec<ObjTuple>) -> PyResult<Vec<u32>> {
+        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
+        let ctx =
+            Context::new(&self.inner, &kitchen, &[], None, None).map_err(errors::PyFoonErr)?;
+        Ok(ctx.kitchen_objects().to_vec())
+    }
+}
+
+impl PyFoon {
+    fn check_object(&self, o: u32) -> PyResult<()> {
+        if (o as usize) < self.inner.object_count() {
+            Ok(())
+        } else {
+            Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "object id {o} is out of range (the FOON has {} objects)",
+                self.inner.object_count()
+            )))
+        }
+    }
+
+    fn check_fu(&self, f: u32) -> PyResult<()> {
+        if (f as usize) < self.inner.fu_count() {
+            Ok(())
+        } else {
+            Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "functional unit {f} is out of range (the FOON has {})",
+                self.inner.fu_count()
+            )))
+        }
+    }
+}
+
+/// Reads a list of objects (kitchen or goal; JSON or FOON object blocks) from a file.
+#[pyfunction]
+fn load_objects(py: Python<'_>, path: PathBuf, kind: &str) -> PyResult<Vec<ObjTuple>> {
+    let k = kind_of(kind)?;
+    let v = run_detached(py, || companion::load_objects(&path, k))?;
+    Ok(v.into_iter().map(tuple_of).collect())
+}
+
+/// Parses a list of objects from text; `path` only names the source in messages.
+#[pyfunction]
+#[pyo3(signature = (text, kind, path = None))]
+fn parse_objects(
+    text: &Bound<'_, PyAny>,
+    kind: &str,
+    path: Option<PathBuf>,
+) -> PyResult<Vec<ObjTuple>> {
+    let k = kind_of(kind)?;
+    let data = text_bytes(text)?;
+    let v = companion::parse_objects(&data, path.as_deref(), k).map_err(errors::PyFoonErr)?;
+    Ok(v.into_iter().map(tuple_of).collect())
+}
+
+/// Reads a motion table: (motion, rate) pairs in file order.
+#[pyfunction]
+fn load_rates(py: Python<'_>, path: PathBuf) -> PyResult<Vec<(String, f64)>> {
+    Ok(run_detached(py, || companion::load_rates(&path))?.entries)
+}
+
+#[pyfunction]
+#[pyo3(signature = (text, path = None))]
+fn parse_rates(text: &Bound<'_, PyAny>, path: Option<PathBuf>) -> PyResult<Vec<(String, f64)>> {
+    let data = text_bytes(text)?;
+    Ok(companion::parse_rates(&data, path.as_deref())
+        .map_err(errors::PyFoonErr)?
+        .entries)
+}
+
+/// Reads a utensil list.
+#[pyfunction]
+fn load_utensils(py: Python<'_>, path: PathBuf) -> PyResult<Vec<String>> {
+    run_detached(py, || companion::load_utensils(&path))
+}
+
+#[pyfunction]
+#[pyo3(signature = (text, path = None))]
+fn parse_utensils(text: &Bound<'_, PyAny>, path: Option<PathBuf>) -> PyResult<Vec<String>> {
+    let data = text_bytes(text)?;
+    Ok(companion::parse_utensils(&data, path.as_deref()).map_err(errors::PyFoonErr)?)
+}
+
+/// Method names, in the order the comparison table lists them.
+#[pyfunction]
+fn methods() -> Vec<&'static str> {
+    Method::ALL.iter().map(|m| m.as_str()).collect()
+}
+
+#[pymodule]
+mod _foon {
+    #[pymodule_export]
+    use super::{
+        PyFoon, load_objects, load_rates, load_utensils, methods, parse_objects, parse_rates,
+        parse_utensils,
+    };
+
+    #[pymodule_export]
+    use super::errors::{FoonError, GoalNotFoundError, MissingRateError, ParseError};
+
+    #[pymodule_init]
+    fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
+        use pyo3::types::PyModuleMethods;
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        Ok(())
+    }
+}

@@ -1,0 +1,228 @@
+"""The ``foon`` command line: ``foon plan``, ``foon stats``.
+
+Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
+stderr, no traceback), 2 a usage error, 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import foon
+from foon import _foon
+
+
+class UsageError(Exception):
+    """A command-line mistake (exit code 2)."""
+
+
+# --- loading --------------------------------------------------------------------------------
+
+
+def _load_foon(path: str | None, strict: bool) -> foon.Foon:
+    """Loads a FOON and prints its warnings on stderr."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", foon.FoonWarning)
+        f = foon.example().foon if path is None else foon.load(path, strict=strict)
+    for w in caught:
+        print(f"foon: warning: {w.message}", file=sys.stderr)
+    return f
+
+
+def _read_goals(args: argparse.Namespace, ex: foon.Example | None) -> list[foon.Object | str]:
+    if args.goals:
+        return [foon.Object(t[0], tuple(t[1]), tuple(t[2]), t[3])
+                for t in _foon.load_objects(args.goals, "goal")]
+    if args.goal:
+        try:
+            data = json.loads(args.goal)
+        except json.JSONDecodeError as e:
+            raise UsageError(f"--goal is not valid JSON: {e}") from None
+        items = data if isinstance(data, list) else [data]
+        if not all(isinstance(d, dict) for d in items):
+            raise UsageError('--goal takes a JSON object {"label", "states", ...} or a list of them')
+        try:
+            return [foon.Object.from_dict(d) for d in items]
+        except ValueError as e:
+            raise UsageError(f"--goal: {e}") from None
+    if args.label:
+        return [args.label]
+    if ex is not None:
+        return [ex.goals[0]]
+    raise UsageError("give the goal with --goals FILE, --goal JSON or --label TEXT")
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def write_atomic(path: Path, text: str, inputs: Sequence[str | None] = ()) -> None:
+    """Writes ``text`` to ``path`` through a temporary file in the same folder and a rename,
+    so a failed or interrupted run never leaves a partial file; refuses to replace an input."""
+    for i in inputs:
+        if i is not None and _same_file(path, Path(i)):
+            raise foon.FoonError(f"{path}: refusing to overwrite an input file")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def _summary(t: foon.TaskTree) -> str:
+    head = f"{t.goal}: "
+    if not t.solved:
+        return head + f"FAILED ({t.method}): {t.explanation()}"
+    parts = [f"{t.fu_count} unit{'s' if t.fu_count != 1 else ''}"]
+    parts.append(f"height {t.height}" if t.height is not None else "not executable as listed")
+    if t.success is not None:
+        parts.append(f"success {100 * t.success:.2f}%")
+    compat = ", course" if t.compat == "course" else ""
+    return head + ", ".join(parts) + f" ({t.method}{compat}, {1000 * t.seconds:.2f} ms)"
+
+
+# --- commands -------------------------------------------------------------------------------
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    ex = foon.example() if args.foon is None else None
+    f = ex.foon if ex is not None else _load_foon(args.foon, args.strict)
+    kitchen: foon.Kitchen = (foon.Kitchen.load(args.kitchen) if args.kitchen
+                             else ex.kitchen if ex else foon.Kitchen())
+    motions = (foon.MotionRates.load(args.motions) if args.motions
+               else ex.motions if ex else None)
+    utensils = (foon.load_utensils(args.utensils) if args.utensils
+                else ex.utensils if ex else [])
+    goals = _read_goals(args, ex)
+    trees = f.plan_many(goals, kitchen, args.method, compat=args.compat, count=args.count,
+                        motions=motions, utensils=utensils, default_rate=args.default_rate,
+                        threads=args.threads)
+    inputs = [args.foon, args.kitchen, args.motions, args.utensils, args.goals]
+    if args.out is not None:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        for t in trees:
+            name = t.goal.label.replace(" ", "_") + (".json" if args.format == "json" else ".txt")
+            text = t.to_json() + "\n" if args.format == "json" else t.to_text()
+            write_atomic(out / name, text, inputs)
+    elif args.format == "json":
+        sys.stdout.write(json.dumps([t.to_dict() for t in trees], indent=2) + "\n")
+    else:
+        for t in trees:
+            if len(trees) > 1:
+                sys.stdout.write(f"# goal: {t.goal}\n")
+            if t.units or t.solved:
+                sys.stdout.write(t.to_text())
+    if not args.quiet:
+        for t in trees:
+            print(_summary(t), file=sys.stderr)
+    return 0 if all(t.solved for t in trees) else 1
+
+
+def cmd_stats(args: argparse.Namespace) -> int:
+    rows = []
+    for path in args.files:
+        f = _load_foon(path, args.strict)
+        s = f.stats()
+        rows.append({"file": path, **s})
+    if args.json:
+        sys.stdout.write(json.dumps(rows if len(rows) > 1 else rows[0], indent=2) + "\n")
+        return 0
+    for r in rows:
+        print(r["file"])
+        for k, v in r.items():
+            if k != "file":
+                print(f"  {k.replace('_', ' '):<20} {v:>10,}")
+    return 0
+
+
+# --- parser ---------------------------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="foon",
+        description="Parse FOON files and retrieve task trees (foon %s)." % foon.__version__,
+    )
+    p.add_argument("--version", action="version", version=f"foon {foon.__version__}")
+    sub = p.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
+
+    pl = sub.add_parser(
+        "plan",
+        help="retrieve task trees for goals",
+        description="Retrieve task trees. With no --foon, plans the embedded example "
+        "(its kitchen, motion rates, utensils and default goal).",
+    )
+    pl.add_argument("--foon", metavar="FILE", help="FOON file (any dialect)")
+    pl.add_argument("--kitchen", metavar="FILE", help="kitchen: JSON list or FOON object blocks")
+    pl.add_argument("--motions", metavar="FILE", help="motion success rates (motion<TAB>rate)")
+    pl.add_argument("--utensils", metavar="FILE", help="utensil list, for the container rule")
+    g = pl.add_mutually_exclusive_group()
+    g.add_argument("--goals", metavar="FILE", help="goal file: JSON list/object or object blocks")
+    g.add_argument("--goal", metavar="JSON", help='one goal as JSON, e.g. \'{"label": "ice", ...}\'')
+    g.add_argument("--label", metavar="TEXT", help="a goal label that only one object has")
+    pl.add_argument("--method", default="ids", choices=foon.METHODS, help="default: ids")
+    pl.add_argument("--compat", choices=["course"], default=None,
+                    help="reproduce the course code's trees byte for byte")
+    pl.add_argument("--count", choices=["nodes", "ingredients"], default="nodes",
+                    help="greedy-inputs: count input nodes (default) or ingredient labels")
+    pl.add_argument("--default-rate", type=float, metavar="R",
+                    help="success rate for motions missing from the table")
+    pl.add_argument("--format", choices=["text", "json"], default="text")
+    pl.add_argument("--out", metavar="DIR", help="write one file per goal into DIR")
+    pl.add_argument("--threads", type=int, metavar="N", help="threads for many goals (default: all cores)")
+    pl.add_argument("--strict", action="store_true", help="turn load warnings into errors")
+    pl.add_argument("-q", "--quiet", action="store_true", help="no summary lines on stderr")
+    pl.set_defaults(func=cmd_plan)
+
+    st = sub.add_parser("stats", help="counts of a FOON file")
+    st.add_argument("files", nargs="+", metavar="FILE")
+    st.add_argument("--json", action="store_true", help="machine-readable output")
+    st.add_argument("--strict", action="store_true", help="turn load warnings into errors")
+    st.set_defaults(func=cmd_stats)
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    func: Callable[[argparse.Namespace], int] = args.func
+    try:
+        return func(args)
+    except UsageError as e:
+        parser.print_usage(sys.stderr)
+        print(f"foon: error: {e}", file=sys.stderr)
+        return 2
+    except foon.FoonError as e:
+        print(f"foon: error: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        print(f"foon: error: {e}", file=sys.stderr)
+        return 1
+    except ValueError as e:
+        print(f"foon: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("foon: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 1
+
+
