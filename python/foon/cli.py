@@ -118,10 +118,18 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if args.out is not None:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
+        ext = ".json" if args.format == "json" else ".txt"
+        used: dict[str, int] = {}
         for t in trees:
-            name = t.goal.label.replace(" ", "_") + (".json" if args.format == "json" else ".txt")
+            stem = t.goal.label.replace(" ", "_")
+            used[stem] = used.get(stem, 0) + 1
+            if used[stem] > 1:
+                # Two goals with one label: keep both files rather than replace the first.
+                print(f"foon: note: a second goal labelled '{t.goal.label}' is written to "
+                      f"{stem}_{used[stem]}{ext}", file=sys.stderr)
+                stem = f"{stem}_{used[stem]}"
             text = t.to_json() + "\n" if args.format == "json" else t.to_text()
-            write_atomic(out / name, text, inputs)
+            write_atomic(out / (stem + ext), text, inputs)
     elif args.format == "json":
         sys.stdout.write(json.dumps([t.to_dict() for t in trees], indent=2) + "\n")
     else:

@@ -14,6 +14,7 @@ use crate::parse::{LineKind, Lines, classify};
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
+    #[serde(deserialize_with = "non_empty_label")]
     pub label: String,
     #[serde(default)]
     pub states: Vec<String>,
@@ -67,13 +68,6 @@ impl ObjectSpec {
     }
 }
 
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum OneOrMany {
-    Many(Vec<ObjectSpec>),
-    One(ObjectSpec),
-}
-
 fn json_error(kind: InputKind, path: Option<&Path>, e: &serde_json::Error) -> Error {
     let msg = e.to_string();
     // serde_json appends " at line L column C"; the location is given separately.
@@ -97,6 +91,23 @@ fn json_error(kind: InputKind, path: Option<&Path>, e: &serde_json::Error) -> Er
     )
 }
 
+/// Rejects an empty label where it is read (so the error has the JSON parser's location).
+fn non_empty_label<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<String, D::Error> {
+    let s = String::deserialize(d)?;
+    if s.is_empty() {
+        return Err(serde::de::Error::custom("an object has an empty label"));
+    }
+    Ok(s)
+}
+
+/// 1-based line and character column just after `valid` (valid UTF-8 text).
+fn end_position(valid: &[u8]) -> (u64, u32) {
+    let text = std::str::from_utf8(valid).unwrap_or_default();
+    let line = text.bytes().filter(|&b| b == b'\n').count() as u64 + 1;
+    let last = text.rfind('\n').map_or(text, |i| &text[i + 1..]);
+    (line, last.chars().count() as u32 + 1)
+}
+
 fn is_json(data: &[u8]) -> bool {
     let t = data.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(data);
     matches!(
@@ -109,13 +120,19 @@ fn is_json(data: &[u8]) -> bool {
 /// object blocks (`O`/`S` lines; `//` lines are ignored).
 pub fn parse_objects(data: &[u8], path: Option<&Path>, kind: InputKind) -> Result<Vec<ObjectSpec>> {
     if is_json(data) {
-        let text = std::str::from_utf8(data)
-            .map_err(|e| Error::parse(kind, path, 1, 1, format!("invalid UTF-8 ({e})")))?;
-        let v: OneOrMany = serde_json::from_str(text).map_err(|e| json_error(kind, path, &e))?;
-        let list = match v {
-            OneOrMany::Many(l) => l,
-            OneOrMany::One(o) if kind == InputKind::Goal => vec![o],
-            OneOrMany::One(_) => {
+        let text = std::str::from_utf8(data).map_err(|e| {
+            let (line, column) = end_position(&data[..e.valid_up_to()]);
+            Error::parse(kind, path, line, column, "invalid UTF-8")
+        })?;
+        // Deserialise the shape the first character announces (rather than trying both),
+        // so that serde_json reports where and why the data goes wrong.
+        let list = if text.trim_start().starts_with('[') {
+            serde_json::from_str::<Vec<ObjectSpec>>(text)
+                .map_err(|e| json_error(kind, path, &e))?
+        } else {
+            let one = serde_json::from_str::<ObjectSpec>(text)
+                .map_err(|e| json_error(kind, path, &e))?;
+            if kind != InputKind::Goal {
                 return Err(Error::parse(
                     kind,
                     path,
@@ -124,6 +141,7 @@ pub fn parse_objects(data: &[u8], path: Option<&Path>, kind: InputKind) -> Resul
                     "expected a JSON list of objects",
                 ));
             }
+            vec![one]
         };
         if let Some(o) = list.iter().find(|o| o.label.is_empty()) {
             let _ = o;
@@ -165,7 +183,7 @@ fn parse_object_blocks(
         let Some(&(f1_off, f1)) = fields.get(1) else {
             return Err(err(
                 line.number,
-                line.column_of(line.text.len()) + 1,
+                line.column_of(line.text.len()),
                 "missing field (no TAB-separated field)".into(),
             ));
         };
@@ -288,10 +306,12 @@ pub fn parse_rates(data: &[u8], path: Option<&Path>) -> Result<MotionRates> {
                 kind,
                 path,
                 line.number,
-                line.column_of(t.len()) + 1,
+                line.column_of(t.len()),
                 "expected 'motion<TAB>rate'",
             ));
         };
+        // The rate starts right after the TAB (offset taken before trimming the name).
+        let rate_off = name.len() + 1;
         let name = name.trim();
         if name.is_empty() {
             return Err(Error::parse(
@@ -302,7 +322,7 @@ pub fn parse_rates(data: &[u8], path: Option<&Path>) -> Result<MotionRates> {
                 "empty motion name",
             ));
         }
-        let col = line.column_of(name.len() + 1);
+        let col = line.column_of(rate_off);
         let v: f64 = rate.trim().parse().map_err(|_| {
             let shown: String = rate.trim().chars().take(20).collect();
             Error::parse(

@@ -161,7 +161,9 @@ pub(crate) fn classify<'a>(
         }
     }
     fields.push((start, &t[start..]));
-    while fields.len() > 1 && fields.last().is_some_and(|(_, f)| f.trim().is_empty()) {
+    // Trailing empty fields are ignored, but the second field always stays so that an empty
+    // one is reported where it is.
+    while fields.len() > 2 && fields.last().is_some_and(|(_, f)| f.trim().is_empty()) {
         fields.pop();
     }
     let head = fields[0].1;
@@ -313,7 +315,7 @@ pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Resul
             };
             return Err(err(
                 line.number,
-                line.column_of(line.text.len()) + 1,
+                line.column_of(line.text.len()),
                 format!("missing {what} (no TAB-separated field)"),
             ));
         };
