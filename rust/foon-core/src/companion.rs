@@ -34,15 +34,16 @@ impl ObjectSpec {
 
     /// A one-line description: `label [states] {ingredients} in [container]`.
     pub fn describe(&self) -> String {
+        use std::fmt::Write as _;
         let mut s = self.label.clone();
         if !self.states.is_empty() {
-            s.push_str(&format!(" ({})", self.states.join(", ")));
+            let _ = write!(s, " ({})", self.states.join(", "));
         }
         if !self.ingredients.is_empty() {
-            s.push_str(&format!(" {{{}}}", self.ingredients.join(",")));
+            let _ = write!(s, " {{{}}}", self.ingredients.join(","));
         }
         if let Some(c) = &self.container {
-            s.push_str(&format!(" in [{c}]"));
+            let _ = write!(s, " in [{c}]");
         }
         s
     }
@@ -68,7 +69,7 @@ impl ObjectSpec {
     }
 }
 
-fn json_error(kind: InputKind, path: Option<&Path>, e: &serde_json::Error) -> Error {
+fn json_error(kind: InputKind, path: Option<&Path>, text: &str, e: &serde_json::Error) -> Error {
     let msg = e.to_string();
     // serde_json appends " at line L column C"; the location is given separately.
     let reason = msg
@@ -82,13 +83,19 @@ fn json_error(kind: InputKind, path: Option<&Path>, e: &serde_json::Error) -> Er
     } else {
         reason
     };
-    Error::parse(
-        kind,
-        path,
-        e.line().max(1) as u64,
-        e.column().max(1) as u32,
-        reason,
-    )
+    let line = e.line().max(1);
+    // serde_json counts the column in bytes; ours is in characters.
+    let column = text
+        .split('\n')
+        .nth(line - 1)
+        .map_or(e.column(), |l| {
+            let mut b = e.column().saturating_sub(1).min(l.len());
+            while !l.is_char_boundary(b) {
+                b -= 1;
+            }
+            l[..b].chars().count() + 1
+        });
+    Error::parse(kind, path, line as u64, column.max(1) as u32, reason)
 }
 
 /// Rejects an empty label where it is read (so the error has the JSON parser's location).
@@ -128,10 +135,10 @@ pub fn parse_objects(data: &[u8], path: Option<&Path>, kind: InputKind) -> Resul
         // so that serde_json reports where and why the data goes wrong.
         let list = if text.trim_start().starts_with('[') {
             serde_json::from_str::<Vec<ObjectSpec>>(text)
-                .map_err(|e| json_error(kind, path, &e))?
+                .map_err(|e| json_error(kind, path, text, &e))?
         } else {
             let one = serde_json::from_str::<ObjectSpec>(text)
-                .map_err(|e| json_error(kind, path, &e))?;
+                .map_err(|e| json_error(kind, path, text, &e))?;
             if kind != InputKind::Goal {
                 return Err(Error::parse(
                     kind,

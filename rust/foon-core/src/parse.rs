@@ -23,7 +23,7 @@ pub(crate) struct Line<'a> {
     pub(crate) text: &'a str,
 }
 
-impl<'a> Line<'a> {
+impl Line<'_> {
     /// 1-based character column of byte offset `byte` in the line.
     pub(crate) fn column_of(&self, byte: usize) -> u32 {
         let byte = byte.min(self.text.len());

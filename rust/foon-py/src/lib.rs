@@ -1,5 +1,7 @@
-//! `foon._foon`: the thin PyO3 layer over `foon-core` (conversions, errors, GIL release).
+//! `foon._foon`: the thin `PyO3` layer over `foon-core` (conversions, errors, GIL release).
 //! No algorithm lives here.
+// PyO3 hands arguments over as owned values extracted from Python objects.
+#![allow(clippy::needless_pass_by_value)]
 
 mod errors;
 
@@ -16,6 +18,9 @@ use errors::{PyFoonResult, run_detached};
 
 /// An object as Python sees it: (label, states, ingredients, container).
 type ObjTuple = (String, Vec<String>, Vec<String>, Option<String>);
+
+/// (valid in some order, height, first position whose needed inputs are unavailable).
+type TreeCheck = (bool, Option<u32>, Option<(usize, Vec<u32>)>);
 
 fn spec_of(t: ObjTuple) -> ObjectSpec {
     ObjectSpec {
@@ -366,7 +371,7 @@ impl PyFoon {
         goal: u32,
         kitchen: Vec<ObjTuple>,
         utensils: Vec<String>,
-    ) -> PyResult<(bool, Option<u32>, Option<(usize, Vec<u32>)>)> {
+    ) -> PyResult<TreeCheck> {
         self.check_object(goal)?;
         for &f in &units {
             self.check_fu(f)?;

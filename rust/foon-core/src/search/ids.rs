@@ -17,8 +17,10 @@ struct Memo {
 }
 
 impl Memo {
-    /// The answer of `dls(o, l)` when the memo already knows it.
+    /// The answer of `dls(o, l)` when the memo already knows it: `Some(Some(rank))` found,
+    /// `Some(None)` fails, `None` unknown.
     #[inline]
+    #[allow(clippy::option_option)]
     fn quick(&self, ctx: &Context<'_>, o: u32, l: u32) -> Option<Option<u32>> {
         if ctx.in_kitchen(o) {
             return Some(Some(0));
@@ -78,16 +80,13 @@ fn dls(
     let mut result = None;
     'frames: while let Some(top) = stack.last_mut() {
         if let Some(r) = child.take() {
-            match r {
-                Some(rx) => {
-                    top.max = top.max.max(rx);
-                    top.input += 1;
-                }
-                None => {
-                    top.producer += 1;
-                    top.input = 0;
-                    top.max = 0;
-                }
+            if let Some(rx) = r {
+                top.max = top.max.max(rx);
+                top.input += 1;
+            } else {
+                top.producer += 1;
+                top.input = 0;
+                top.max = 0;
             }
         }
         let prods = ctx.foon.producers(top.obj);

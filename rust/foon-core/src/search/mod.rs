@@ -392,6 +392,7 @@ impl<'a> Context<'a> {
         Ok(plan)
     }
 
+    #[allow(clippy::unused_self)]
     fn empty_plan(&self, goal: u32, query: Query) -> Plan {
         Plan {
             goal,

@@ -84,7 +84,10 @@ pub(super) fn knuth(
             if done[yi] || foon.is_bare(y) {
                 continue;
             }
-            if c < cost[yi] || (c == cost[yi] && f < choice[yi]) {
+            // Equal costs are compared exactly on purpose: the tie goes to the lower index.
+            #[allow(clippy::float_cmp)]
+            let better = c < cost[yi] || (c == cost[yi] && f < choice[yi]);
+            if better {
                 if c < cost[yi] {
                     heap.push(Entry { cost: c, obj: y });
                 }
