@@ -410,14 +410,15 @@ impl Foon {
 }
 
 /// Canonical identity key: label, container, number of states, states sorted, ingredients
-/// sorted (string ids; any fixed order is canonical for equality).
-pub(crate) fn identity_key(
+/// sorted (string ids; any fixed order is canonical for equality). Written into `key`.
+pub(crate) fn identity_key_into(
+    key: &mut Vec<u32>,
     label: u32,
     states: &[u32],
     ingredients: &[u32],
     container: u32,
-) -> Vec<u32> {
-    let mut key = Vec::with_capacity(3 + states.len() + ingredients.len());
+) {
+    key.clear();
     key.push(label);
     key.push(container);
     key.push(states.len() as u32);
@@ -426,6 +427,16 @@ pub(crate) fn identity_key(
     let start = key.len();
     key.extend_from_slice(ingredients);
     key[start..].sort_unstable();
+}
+
+pub(crate) fn identity_key(
+    label: u32,
+    states: &[u32],
+    ingredients: &[u32],
+    container: u32,
+) -> Vec<u32> {
+    let mut key = Vec::with_capacity(3 + states.len() + ingredients.len());
+    identity_key_into(&mut key, label, states, ingredients, container);
     key
 }
 
@@ -437,8 +448,12 @@ pub struct Builder {
     variants: FxHashMap<Box<[u32]>, u32>,
     motion_seen: Vec<bool>,
     key: Vec<u32>,
+    id_key: Vec<u32>,
+    fu_key: Vec<u32>,
     ins: Vec<u32>,
     outs: Vec<u32>,
+    in_vars: Vec<u32>,
+    out_vars: Vec<u32>,
 }
 
 impl Builder {
@@ -471,7 +486,8 @@ impl Builder {
 
     /// Interns an object occurrence; returns `(object id, variant id)`.
     fn object(&mut self, raw: &RawObject<'_>) -> (u32, u32) {
-        let key = identity_key(raw.label, raw.states, raw.ingredients, raw.container);
+        let key = &mut self.id_key;
+        identity_key_into(key, raw.label, raw.states, raw.ingredients, raw.container);
         let f = &mut self.foon;
         let obj = if let Some(&o) = f.identity.get(key.as_slice()) {
             o
@@ -487,7 +503,7 @@ impl Builder {
             i.sort_by(|a, b| strings.text(*a).cmp(strings.text(*b)));
             f.obj_ingredients.push_row(&i);
             f.obj_first_variant.push(NONE);
-            f.identity.insert(key.into_boxed_slice(), o);
+            f.identity.insert(key.as_slice().into(), o);
             o
         };
         let vkey = &mut self.key;
@@ -503,7 +519,7 @@ impl Builder {
             f.var_obj.push(obj);
             f.var_states.push_row(raw.states);
             f.var_ingredients.push_row(raw.ingredients);
-            self.variants.insert(vkey.clone().into_boxed_slice(), v);
+            self.variants.insert(vkey.as_slice().into(), v);
             v
         };
         if f.obj_first_variant[obj as usize] == NONE {
@@ -524,10 +540,18 @@ impl Builder {
     ) -> Result<u32, u32> {
         let mut in_ids = std::mem::take(&mut self.ins);
         let mut out_ids = std::mem::take(&mut self.outs);
-        in_ids.clear();
-        out_ids.clear();
-        let mut in_vars = Vec::with_capacity(inputs.len());
-        let mut out_vars = Vec::with_capacity(outputs.len());
+        let mut in_vars = std::mem::take(&mut self.in_vars);
+        let mut out_vars = std::mem::take(&mut self.out_vars);
+        let mut key = std::mem::take(&mut self.fu_key);
+        for v in [
+            &mut in_ids,
+            &mut out_ids,
+            &mut in_vars,
+            &mut out_vars,
+            &mut key,
+        ] {
+            v.clear();
+        }
         for raw in inputs {
             let (o, v) = self.object(raw);
             in_ids.push(o);
@@ -538,7 +562,6 @@ impl Builder {
             out_ids.push(o);
             out_vars.push(v);
         }
-        let mut key = Vec::with_capacity(2 + in_ids.len() + out_ids.len());
         key.push(motion);
         key.push(in_ids.len() as u32);
         key.extend_from_slice(&in_ids);
@@ -552,7 +575,7 @@ impl Builder {
         } else {
             let f = &mut self.foon;
             let idx = f.fu_motion.len() as u32;
-            self.fu_keys.insert(key.into_boxed_slice(), idx);
+            self.fu_keys.insert(key.as_slice().into(), idx);
             f.fu_motion.push(motion);
             f.fu_motion_meta.push(motion_meta);
             f.fu_line.push(line);
@@ -576,6 +599,9 @@ impl Builder {
         };
         self.ins = in_ids;
         self.outs = out_ids;
+        self.in_vars = in_vars;
+        self.out_vars = out_vars;
+        self.fu_key = key;
         result
     }
 

@@ -34,33 +34,67 @@ impl Line<'_> {
 }
 
 /// Iterates over the lines of `data`, checking size, NUL bytes and UTF-8; strips `\r`.
+/// UTF-8 and NUL bytes are checked for the whole input at once; lines are then slices of the
+/// valid text, and the first fault is reported at its own line and column.
 pub(crate) struct Lines<'a> {
-    data: &'a [u8],
+    /// The input up to its first fault (all of it for a good file).
+    text: &'a str,
     pos: usize,
     number: u64,
     path: Option<&'a Path>,
     kind: InputKind,
+    /// What the first fault is, when `text` stops before the end of the input.
+    fault: Option<&'static str>,
+    done: bool,
 }
 
 impl<'a> Lines<'a> {
     pub(crate) fn new(data: &'a [u8], path: Option<&'a Path>, kind: InputKind) -> Self {
         // A UTF-8 byte-order mark at the start is not part of the first line.
-        let pos = if data.starts_with(b"\xEF\xBB\xBF") {
-            3
-        } else {
-            0
+        let data = data.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(data);
+        let (valid, bad_utf8) = match std::str::from_utf8(data) {
+            Ok(t) => (t, false),
+            Err(e) => (
+                std::str::from_utf8(&data[..e.valid_up_to()]).unwrap_or(""),
+                true,
+            ),
+        };
+        let (text, fault) = match memchr::memchr(0, valid.as_bytes()) {
+            Some(i) => (&valid[..i], Some("NUL byte")),
+            None => (valid, bad_utf8.then_some("invalid UTF-8")),
         };
         Self {
-            data,
-            pos,
+            text,
+            pos: 0,
             number: 0,
             path,
             kind,
+            fault,
+            done: false,
         }
     }
 
     fn error(&self, line: u64, column: u32, reason: impl Into<String>) -> Error {
         Error::parse(self.kind, self.path, line, column, reason)
+    }
+
+    fn line(&mut self, raw: &'a str) -> Result<Line<'a>> {
+        let raw = raw.strip_suffix('\r').unwrap_or(raw);
+        if raw.len() > MAX_LINE_BYTES {
+            self.done = true;
+            return Err(self.error(
+                self.number,
+                1,
+                format!(
+                    "line is {} bytes long (the limit is {MAX_LINE_BYTES})",
+                    raw.len()
+                ),
+            ));
+        }
+        Ok(Line {
+            number: self.number,
+            text: raw,
+        })
     }
 }
 
@@ -68,50 +102,23 @@ impl<'a> Iterator for Lines<'a> {
     type Item = Result<Line<'a>>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        if self.pos >= self.data.len() {
+        let text = self.text;
+        if self.done || (self.pos >= text.len() && self.fault.is_none()) {
             return None;
         }
-        let rest = &self.data[self.pos..];
-        let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        let rest = &text[self.pos..];
         self.number += 1;
-        self.pos += end + 1;
-        let mut raw = &rest[..end];
-        if raw.last() == Some(&b'\r') {
-            raw = &raw[..raw.len() - 1];
-        }
-        if raw.len() > MAX_LINE_BYTES {
-            self.pos = self.data.len();
-            return Some(Err(self.error(
-                self.number,
-                1,
-                format!(
-                    "line is {} bytes long (the limit is {MAX_LINE_BYTES})",
-                    raw.len()
-                ),
-            )));
-        }
-        let text = match std::str::from_utf8(raw) {
-            Ok(t) => t,
-            Err(e) => {
-                let good = &raw[..e.valid_up_to()];
-                let col = std::str::from_utf8(good).map_or(1, |s| s.chars().count() as u32 + 1);
-                self.pos = self.data.len();
-                return Some(Err(self.error(self.number, col, "invalid UTF-8")));
+        let Some(end) = memchr::memchr(b'\n', rest.as_bytes()) else {
+            self.done = true;
+            if let Some(what) = self.fault {
+                // The fault is on this line, right after `rest`.
+                let col = rest.chars().count() as u32 + 1;
+                return Some(Err(self.error(self.number, col, what)));
             }
+            return Some(self.line(rest));
         };
-        if let Some(i) = text.find('\0') {
-            let line = Line {
-                number: self.number,
-                text,
-            };
-            let col = line.column_of(i);
-            self.pos = self.data.len();
-            return Some(Err(self.error(self.number, col, "NUL byte")));
-        }
-        Some(Ok(Line {
-            number: self.number,
-            text,
-        }))
+        self.pos += end + 1;
+        Some(self.line(&rest[..end]))
     }
 }
 
@@ -277,15 +284,9 @@ pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Resul
             });
         }
         if let (Some((motion, meta)), false) = (block.motion, block.two_motions) {
-            let inputs: Vec<RawObject<'_>> = block.objects[..block.first_output]
-                .iter()
-                .map(|s| block.raw(s))
-                .collect();
-            let outputs: Vec<RawObject<'_>> = block.objects[block.first_output..]
-                .iter()
-                .map(|s| block.raw(s))
-                .collect();
-            let _ = b.add_fu(motion, meta, &inputs, &outputs, block.start_line as u32);
+            let raws: Vec<RawObject<'_>> = block.objects.iter().map(|s| block.raw(s)).collect();
+            let (inputs, outputs) = raws.split_at(block.first_output);
+            let _ = b.add_fu(motion, meta, inputs, outputs, block.start_line as u32);
         }
         block.clear();
         Ok(())

@@ -1,0 +1,115 @@
+"""foon benchmarks: the Rust core against pure-Python baselines, side by side in one run.
+
+    python benchmarks/run.py [--data ../shared/data/foon] [--repeat 5]
+
+Prints Markdown tables (ratios are what matter: machines are noisy). Build the wheel in
+release mode first (scripts/test does; or `maturin develop --release`)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent / "tests"))
+
+import course_parser  # noqa: E402
+import foon_reference as ref  # noqa: E402
+
+import foon  # noqa: E402
+
+
+def timeit(fn: Callable[[], object], repeat: int) -> float:
+    """Median wall time of `repeat` runs (one warm-up run first)."""
+    fn()
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def fmt(s: float) -> str:
+    return f"{s * 1000:.2f} ms" if s < 1 else f"{s:.2f} s"
+
+
+def bench_parse(data: Path, repeat: int) -> None:
+    path = str(data / "FOON.txt")
+    text = (data / "FOON.txt").read_text(encoding="utf-8")
+    rust = timeit(lambda: foon.load(path), repeat)
+    dict_py = timeit(lambda: ref.parse(text), max(1, repeat // 2))
+    course_py = timeit(lambda: course_parser.parse(path), 1)
+    kept, objs, prods = course_parser.parse(path)
+    f = foon.load(path)
+    assert (len(kept), len(objs), len(prods)) == (f.fu_count, f.object_count,
+                                                  f.stats()["produced_objects"])
+    print("\n### Parsing the course FOON.txt (2,376 units, 4,305 objects)\n")
+    print("| parser | time | foon is faster by |")
+    print("|---|---:|---:|")
+    print(f"| foon (Rust core, from Python) | {fmt(rust)} | 1x |")
+    print(f"| pure Python, course rules (list lookups, as the course scripts) | {fmt(course_py)} "
+          f"| {course_py / rust:,.0f}x |")
+    print(f"| pure Python, dict lookups (tests/foon_reference.py) | {fmt(dict_py)} "
+          f"| {dict_py / rust:,.0f}x |")
+
+
+def bench_plan(data: Path, repeat: int) -> None:
+    f = foon.load(data / "FOON.txt")
+    kitchen = foon.Kitchen.load(data / "kitchen.json")
+    motions = foon.MotionRates.load(data / "motion.txt")
+    utensils = foon.load_utensils(data / "utensils.txt")
+    goals = [foon.Object.from_dict(d) for d in json.loads((data / "goal_nodes_25.json").read_text())]
+    rf = ref.parse((data / "FOON.txt").read_text(encoding="utf-8"))
+    rk = ref.read_kitchen_json((data / "kitchen.json").read_text())
+    ru = ref.read_utensils((data / "utensils.txt").read_text())
+    rr = ref.read_rates((data / "motion.txt").read_text())
+    cases = [("bfs", "course"), ("greedy-success", "course"), ("greedy-inputs", "course"),
+             ("ids", None), ("greedy-success", None), ("greedy-inputs", None),
+             ("optimal-success", None), ("optimal-units", None), ("optimal-inputs", None)]
+    n = len(goals)
+    cores = os.cpu_count() or 1
+    print(f"\n### Planning the 25 course goals (course kitchen), plans per second\n")
+    print(f"| method | foon, 1 thread | foon, {cores} threads | pure-Python reference "
+          "| foon (1 thread) is faster by |")
+    print("|---|---:|---:|---:|---:|")
+    for method, compat in cases:
+        kw = dict(compat=compat, motions=motions, utensils=utensils)
+        one = timeit(lambda: f.plan_many(goals, kitchen, method, threads=1, **kw), repeat)  # type: ignore[arg-type]
+        allc = timeit(lambda: f.plan_many(goals, kitchen, method, **kw), repeat)  # type: ignore[arg-type]
+        name = f"{method}" + (" (course)" if compat else "")
+        if method.startswith("optimal"):
+            py = None
+        else:
+            py = timeit(lambda: [ref.plan(rf, g.identity(), rk, ru, rr, method, compat)
+                                 for g in goals], 1)
+        pys = f"{n / py:,.0f}" if py else "n/a"
+        ratio = f"{py / one:,.0f}x" if py else "n/a"
+        print(f"| {name} | {n / one:,.0f} | {n / allc:,.0f} | {pys} | {ratio} |")
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--data", type=Path,
+                   default=HERE.parent.parent / "shared" / "data" / "foon")
+    p.add_argument("--repeat", type=int, default=5)
+    p.add_argument("--only", choices=["parse", "plan"])
+    a = p.parse_args()
+    print(f"foon {foon.__version__}, Python {platform.python_version()}, "
+          f"{platform.machine()}, {os.cpu_count()} cores")
+    if a.only in (None, "parse"):
+        bench_parse(a.data, a.repeat)
+    if a.only in (None, "plan"):
+        bench_plan(a.data, a.repeat)
+
+
+if __name__ == "__main__":
+    main()
