@@ -32,6 +32,7 @@ __version__: str = _foon.__version__
 
 __all__ = [
     "METHODS",
+    "Blocked",
     "Example",
     "Foon",
     "FoonError",
@@ -44,6 +45,7 @@ __all__ = [
     "Object",
     "ParseError",
     "TaskTree",
+    "TreeCheck",
     "example",
     "load",
     "load_utensils",
@@ -361,6 +363,28 @@ class TaskTree:
         return bool(valid)
 
 
+@dataclass(frozen=True)
+class Blocked:
+    """The first unit of a tree file that cannot run in the order written."""
+
+    position: int
+    line: int
+    missing: list[Object]
+
+
+@dataclass(frozen=True)
+class TreeCheck:
+    """What :meth:`Foon.verify` found."""
+
+    valid: bool
+    units: int
+    goal_made: bool
+    goal_absent: bool
+    blocked: Blocked | None
+    #: (position, line) of units that are not units of the FOON.
+    foreign_units: list[tuple[int, int]]
+
+
 class Foon:
     """A parsed FOON: an immutable compact index, safe to share between threads."""
 
@@ -529,6 +553,28 @@ class Foon:
             height=d["height"], success=d["success"], cost=d["cost"],
             leaf_inputs=d["leaf_inputs"], expanded=d["expanded"],
             peak_frontier=d["peak_frontier"], seconds=d["seconds"], kitchen=k, utensils=u)
+
+    def verify(
+        self,
+        tree: Foon | PathLike,
+        goal: ObjectLike,
+        kitchen: KitchenLike = None,
+        utensils: UtensilsLike = None,
+    ) -> TreeCheck:
+        """Checks a task tree (a tree file, or a :class:`Foon` parsed from one) in the order
+        its units are written: each unit's needed inputs must be in the kitchen or made by an
+        earlier unit, and the goal must be made. Also lists units that are not in this FOON."""
+        t = tree if isinstance(tree, Foon) else Foon.load(tree)
+        d = self._native.verify_tree(t._native, _as_kitchen(kitchen)._tuples(),
+                                     _as_utensils(utensils), _as_object(goal)._tuple())
+        blocked = None
+        if d["blocked"] is not None:
+            pos, line, missing = d["blocked"]
+            blocked = Blocked(pos, line, [Object(m[0], tuple(m[1]), tuple(m[2]), m[3])
+                                          for m in missing])
+        return TreeCheck(valid=d["valid"], units=d["units"], goal_made=d["goal_made"],
+                         goal_absent=d["goal_absent"], blocked=blocked,
+                         foreign_units=[tuple(x) for x in d["foreign_units"]])
 
     def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
         """Rank of every object from the kitchen: the fewest parallel steps that make it

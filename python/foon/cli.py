@@ -144,6 +144,152 @@ def cmd_plan(args: argparse.Namespace) -> int:
     return 0 if all(t.solved for t in trees) else 1
 
 
+def _inputs(args: argparse.Namespace) -> tuple[foon.Foon, foon.Kitchen, foon.MotionRates | None,
+                                                list[str], foon.Example | None]:
+    """The FOON, kitchen, rates and utensils of a command (the example's by default)."""
+    ex = foon.example() if args.foon is None else None
+    f = ex.foon if ex is not None else _load_foon(args.foon, args.strict)
+    kitchen = (foon.Kitchen.load(args.kitchen) if args.kitchen
+               else ex.kitchen if ex else foon.Kitchen())
+    motions = (foon.MotionRates.load(args.motions) if getattr(args, "motions", None)
+               else ex.motions if ex else None)
+    utensils = (foon.load_utensils(args.utensils) if args.utensils
+                else ex.utensils if ex else [])
+    return f, kitchen, motions, utensils, ex
+
+
+COMPARE_METHODS = ("ids", "greedy-success", "greedy-inputs", "optimal-success", "optimal-units",
+                   "optimal-inputs", "bfs")
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    f, kitchen, motions, utensils, ex = _inputs(args)
+    goals = _read_goals(args, ex) if (args.goals or args.goal or args.label or ex is None) \
+        else list(ex.goals)
+    if args.goals is None and args.goal is None and args.label is None and ex is None:
+        raise UsageError("give the goals with --goals FILE")
+    methods = args.methods.split(",") if args.methods else list(COMPARE_METHODS)
+    for m in methods:
+        if m not in foon.METHODS:
+            raise UsageError(f"unknown method '{m}' (choose from {', '.join(foon.METHODS)})")
+    rows: list[dict[str, Any]] = []
+    for m in methods:
+        compat = "course" if (m == "bfs" or args.compat == "course") and \
+            not m.startswith("optimal") else None
+        for t in f.plan_many(goals, kitchen, m, compat=compat, count=args.count,
+                             motions=motions, utensils=utensils,
+                             default_rate=args.default_rate, threads=args.threads):
+            rows.append({
+                "goal": str(t.goal), "method": m + (" (course)" if compat else ""),
+                "solved": t.solved, "fu_count": t.fu_count if t.solved else None,
+                "height": t.height, "success": t.success if t.solved else None,
+                "leaf_inputs": t.leaf_inputs if t.solved else None, "expanded": t.expanded,
+                "peak_frontier": t.peak_frontier, "seconds": t.seconds,
+            })
+    summary = _compare_summary(rows)
+    if args.json:
+        sys.stdout.write(json.dumps({"rows": rows, "summary": summary}, indent=2) + "\n")
+    elif args.csv:
+        import csv
+
+        w = csv.DictWriter(sys.stdout, fieldnames=list(rows[0]) if rows else ["goal"])
+        w.writeheader()
+        w.writerows(rows)
+        for srow in summary:
+            w.writerow({"goal": "(all)", **srow})
+    else:
+        _print_compare_table(rows, summary)
+    return 0
+
+
+def _compare_summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    out = []
+    for m in dict.fromkeys(r["method"] for r in rows):
+        rs = [r for r in rows if r["method"] == m]
+        ok = [r for r in rs if r["solved"]]
+
+        def mean(key: str, rows_: list[dict[str, Any]] = ok) -> float | None:
+            vals = [r[key] for r in rows_ if r[key] is not None]
+            return sum(vals) / len(vals) if vals else None
+
+        out.append({
+            "method": m, "solved": len(ok), "goals": len(rs), "fu_count": mean("fu_count"),
+            "height": mean("height"), "success": mean("success"),
+            "leaf_inputs": mean("leaf_inputs"), "expanded": mean("expanded", rs),
+            "peak_frontier": mean("peak_frontier", rs),
+            "seconds": sum(r["seconds"] for r in rs),
+        })
+    return out
+
+
+def _cell(v: Any, kind: str = "") -> str:
+    if v is None:
+        return "-"
+    if kind == "pct":
+        return f"{100 * v:.2f}%"
+    if kind == "ms":
+        return f"{1000 * v:.3f}"
+    if isinstance(v, float):
+        return f"{v:.1f}"
+    return str(v)
+
+
+def _print_compare_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) -> None:
+    head = ["goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms"]
+    body = [[r["goal"][:48], r["method"], _cell(r["fu_count"]), _cell(r["height"]),
+             _cell(r["success"], "pct"), _cell(r["leaf_inputs"]), _cell(r["expanded"]),
+             _cell(r["peak_frontier"]), _cell(r["seconds"], "ms")] for r in rows]
+    for srow in summary:
+        body.append([f"(all: {srow['solved']}/{srow['goals']} solved)", srow["method"],
+                     _cell(srow["fu_count"]), _cell(srow["height"]),
+                     _cell(srow["success"], "pct"), _cell(srow["leaf_inputs"]),
+                     _cell(srow["expanded"]), _cell(srow["peak_frontier"]),
+                     _cell(srow["seconds"], "ms")])
+    widths = [max(len(x[i]) for x in [head, *body]) for i in range(len(head))]
+    line = "  ".join(h.ljust(w) if i < 2 else h.rjust(w) for i, (h, w) in enumerate(zip(head, widths)))
+    print(line)
+    print("-" * len(line))
+    for i, row in enumerate(body):
+        if i == len(rows):
+            print("-" * len(line))
+        print("  ".join(c.ljust(w) if j < 2 else c.rjust(w)
+                        for j, (c, w) in enumerate(zip(row, widths))))
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    f, kitchen, _, utensils, ex = _inputs(args)
+    goals = _read_goals(args, ex)
+    if len(goals) != 1 or isinstance(goals[0], str):
+        if goals and isinstance(goals[0], str):
+            goals = [f.object(f.goal_id(goals[0]))]
+        else:
+            raise UsageError("verify takes exactly one goal")
+    goal = goals[0]
+    assert isinstance(goal, foon.Object)
+    r = f.verify(args.tree, goal, kitchen, utensils)
+    if args.json:
+        out = {"valid": r.valid, "units": r.units, "goal_made": r.goal_made,
+               "blocked": None if r.blocked is None else {
+                   "position": r.blocked.position, "line": r.blocked.line,
+                   "missing": [o.to_dict() for o in r.blocked.missing]},
+               "foreign_units": [{"position": p, "line": ln} for p, ln in r.foreign_units]}
+        sys.stdout.write(json.dumps(out, indent=2) + "\n")
+    else:
+        if r.blocked is not None:
+            b = r.blocked
+            print(f"{args.tree}:{b.line}: unit {b.position + 1} cannot run: needs "
+                  + "; ".join(str(o) for o in b.missing)
+                  + " (neither in the kitchen nor made by an earlier unit)")
+        if not r.goal_made:
+            what = "is not an object of the tree" if r.goal_absent else "is never made"
+            print(f"{args.tree}: the goal {goal} {what}")
+        for pos, line in r.foreign_units:
+            print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
+        if r.valid:
+            print(f"{args.tree}: valid: {r.units} units make {goal}")
+    return 0 if r.valid else 1
+
+
 def cmd_stats(args: argparse.Namespace) -> int:
     rows = []
     for path in args.files:
@@ -199,6 +345,48 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--strict", action="store_true", help="turn load warnings into errors")
     pl.add_argument("-q", "--quiet", action="store_true", help="no summary lines on stderr")
     pl.set_defaults(func=cmd_plan)
+
+    def common(sp: argparse.ArgumentParser, motions: bool = True) -> None:
+        sp.add_argument("--foon", metavar="FILE", help="FOON file (default: the example)")
+        sp.add_argument("--kitchen", metavar="FILE", help="kitchen: JSON list or object blocks")
+        if motions:
+            sp.add_argument("--motions", metavar="FILE", help="motion success rates")
+        sp.add_argument("--utensils", metavar="FILE", help="utensil list (container rule)")
+        g = sp.add_mutually_exclusive_group()
+        g.add_argument("--goals", metavar="FILE", help="goal file")
+        g.add_argument("--goal", metavar="JSON", help="one goal as JSON")
+        g.add_argument("--label", metavar="TEXT", help="a goal label that one object has")
+        sp.add_argument("--strict", action="store_true", help="turn load warnings into errors")
+
+    cp = sub.add_parser(
+        "compare",
+        help="compare planning methods on a set of goals",
+        description="One row per goal and method: units, height, overall success, distinct "
+        "leaf inputs, objects expanded, peak frontier, time; then a summary row per method.",
+    )
+    common(cp)
+    cp.add_argument("--methods", metavar="LIST",
+                    help="comma-separated methods (default: " + ",".join(COMPARE_METHODS) + ")")
+    cp.add_argument("--compat", choices=["course"], default=None,
+                    help="course-compatible ids/greedy methods")
+    cp.add_argument("--count", choices=["nodes", "ingredients"], default="nodes")
+    cp.add_argument("--default-rate", type=float, metavar="R")
+    cp.add_argument("--threads", type=int, metavar="N")
+    fmt = cp.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="machine-readable output")
+    fmt.add_argument("--csv", action="store_true", help="CSV output")
+    cp.set_defaults(func=cmd_compare)
+
+    vp = sub.add_parser(
+        "verify",
+        help="check a task-tree file",
+        description="Checks a task-tree file (course text form) in the order written: every "
+        "unit's inputs must be in the kitchen or made by an earlier unit, and the goal made.",
+    )
+    common(vp, motions=False)
+    vp.add_argument("tree", metavar="TREE_FILE")
+    vp.add_argument("--json", action="store_true", help="machine-readable output")
+    vp.set_defaults(func=cmd_verify)
 
     st = sub.add_parser("stats", help="counts of a FOON file")
     st.add_argument("files", nargs="+", metavar="FILE")

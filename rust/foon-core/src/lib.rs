@@ -7,6 +7,7 @@ pub mod error;
 pub mod index;
 pub mod parse;
 pub mod search;
+pub mod verify;
 pub mod write;
 
 pub use companion::{MotionRates, ObjectSpec};

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use foon_core::companion::{self, MotionRates, ObjectSpec};
 use foon_core::search::{self, Compat, Context, Count, Method, Plan, Query};
-use foon_core::{InputKind, ParseOptions, write};
+use foon_core::{InputKind, ParseOptions, verify, write};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
@@ -385,6 +385,18 @@ impl PyFoon {
         })
     }
 
+    /// Checks the task tree in `tree` (a parsed tree file) against this FOON, in its order.
+    fn verify_tree<'py>(
+        &self,
+        py: Python<'py>,
+        tree: &PyFoon,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        goal: ObjTuple,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        self.verify_tree_impl(py, &tree.inner, kitchen, utensils, goal)
+    }
+
     /// Ranks from the kitchen: one entry per object (None when not derivable).
     fn ranks(
         &self,
@@ -411,6 +423,37 @@ impl PyFoon {
 }
 
 impl PyFoon {
+    /// Checks a task-tree file's units in their order (see `foon_core::verify`).
+    fn verify_tree_impl<'py>(
+        &self,
+        py: Python<'py>,
+        tree: &foon_core::Foon,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        goal: ObjTuple,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
+        let goal = spec_of(goal);
+        let foon = &self.inner;
+        let r = run_detached(py, || {
+            verify::verify_tree(foon, tree, &kitchen, &utensils, &goal)
+        })?;
+        let d = PyDict::new(py);
+        d.set_item("units", r.units)?;
+        d.set_item("valid", r.is_valid())?;
+        d.set_item("goal_made", r.goal_made)?;
+        d.set_item("goal_absent", r.goal_absent)?;
+        d.set_item("foreign_units", r.foreign_units)?;
+        match r.first_blocked {
+            Some(b) => {
+                let missing: Vec<ObjTuple> = b.missing.into_iter().map(tuple_of).collect();
+                d.set_item("blocked", (b.position, b.line, missing))?;
+            }
+            None => d.set_item("blocked", py.None())?,
+        }
+        Ok(d)
+    }
+
     fn check_object(&self, o: u32) -> PyResult<()> {
         if (o as usize) < self.inner.object_count() {
             Ok(())

@@ -1,0 +1,133 @@
+//! Checking a task-tree file: are its units executable in the order written, from the
+//! kitchen, and do they make the goal? Are they units of the FOON at all?
+
+use crate::companion::ObjectSpec;
+use crate::error::Result;
+use crate::index::Foon;
+use crate::search::Context;
+
+/// The first unit of a tree that cannot run in the order written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Blocked {
+    /// Position of the unit in the tree (0-based).
+    pub position: usize,
+    /// Line where the unit starts in the tree file.
+    pub line: u32,
+    /// Its needed inputs that are neither in the kitchen nor made by an earlier unit.
+    pub missing: Vec<ObjectSpec>,
+}
+
+/// What `verify_tree` found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TreeReport {
+    pub units: usize,
+    pub first_blocked: Option<Blocked>,
+    /// The goal is in the kitchen or made by a unit that could run.
+    pub goal_made: bool,
+    /// The goal is not even an object of the tree file (nor in the kitchen).
+    pub goal_absent: bool,
+    /// Positions (with their lines) of tree units that are not units of the FOON.
+    pub foreign_units: Vec<(usize, u32)>,
+}
+
+impl TreeReport {
+    pub fn is_valid(&self) -> bool {
+        self.first_blocked.is_none() && self.goal_made
+    }
+}
+
+/// Checks the units of `tree` (a parsed task-tree file) in their order against `foon`.
+pub fn verify_tree(
+    foon: &Foon,
+    tree: &Foon,
+    kitchen: &[ObjectSpec],
+    utensils: &[String],
+    goal: &ObjectSpec,
+) -> Result<TreeReport> {
+    let ctx = Context::new(tree, kitchen, utensils, None, None)?;
+    let n = tree.fu_count() as u32;
+    let mut avail: Vec<bool> = (0..tree.object_count() as u32)
+        .map(|o| ctx.in_kitchen(o))
+        .collect();
+    let mut first_blocked = None;
+    for f in 0..n {
+        let missing: Vec<u32> = ctx
+            .needed(f)
+            .iter()
+            .copied()
+            .filter(|&x| !avail[x as usize])
+            .collect();
+        if !missing.is_empty() {
+            if first_blocked.is_none() {
+                first_blocked = Some(Blocked {
+                    position: f as usize,
+                    line: tree.fu_line(f),
+                    missing: missing
+                        .iter()
+                        .map(|&o| ObjectSpec::of_object(tree, o))
+                        .collect(),
+                });
+            }
+            continue;
+        }
+        for &y in tree.outputs(f) {
+            if !tree.is_bare(y) {
+                avail[y as usize] = true;
+            }
+        }
+    }
+    let goal_id = goal.find_in(tree);
+    let in_kitchen = kitchen.iter().any(|k| same_identity(k, goal));
+    let goal_made = in_kitchen || goal_id.is_some_and(|g| avail[g as usize]);
+    let foreign_units = (0..n)
+        .filter(|&f| !has_unit(foon, tree, f))
+        .map(|f| (f as usize, tree.fu_line(f)))
+        .collect();
+    Ok(TreeReport {
+        units: n as usize,
+        first_blocked,
+        goal_made,
+        goal_absent: goal_id.is_none() && !in_kitchen,
+        foreign_units,
+    })
+}
+
+fn same_identity(a: &ObjectSpec, b: &ObjectSpec) -> bool {
+    let sorted = |v: &[String]| {
+        let mut v = v.to_vec();
+        v.sort_unstable();
+        v
+    };
+    a.label == b.label
+        && a.container == b.container
+        && sorted(&a.states) == sorted(&b.states)
+        && sorted(&a.ingredients) == sorted(&b.ingredients)
+}
+
+/// Whether unit `f` of `tree` is a unit of `foon` (same motion, same multisets of objects).
+fn has_unit(foon: &Foon, tree: &Foon, f: u32) -> bool {
+    let map = |objs: &[u32]| -> Option<Vec<u32>> {
+        let mut ids: Vec<u32> = objs
+            .iter()
+            .map(|&o| ObjectSpec::of_object(tree, o).find_in(foon))
+            .collect::<Option<_>>()?;
+        ids.sort_unstable();
+        Some(ids)
+    };
+    let (Some(ins), Some(outs)) = (map(tree.inputs(f)), map(tree.outputs(f))) else {
+        return false;
+    };
+    let motion = tree.motion_text(f);
+    let candidates: &[u32] = match (ins.first(), outs.first()) {
+        (Some(&i), _) => foon.consumers(i),
+        (None, Some(&o)) => foon.producers(o),
+        (None, None) => &[],
+    };
+    candidates.iter().any(|&g| {
+        let mut gi = foon.inputs(g).to_vec();
+        let mut go = foon.outputs(g).to_vec();
+        gi.sort_unstable();
+        go.sort_unstable();
+        foon.motion_text(g) == motion && gi == ins && go == outs
+    })
+}
