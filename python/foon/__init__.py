@@ -44,6 +44,7 @@ __all__ = [
     "MotionRates",
     "Object",
     "ParseError",
+    "Planner",
     "TaskTree",
     "TreeCheck",
     "example",
@@ -145,7 +146,8 @@ class Kitchen:
     """The objects at hand. An object is available iff its identity equals an item's."""
 
     def __init__(self, items: Iterable[ObjectLike] = ()) -> None:
-        self.items: list[Object] = [_as_object(o) for o in items]
+        self.items: tuple[Object, ...] = tuple(_as_object(o) for o in items)
+        self._cached: list[tuple[str, list[str], list[str], str | None]] | None = None
 
     @classmethod
     def load(cls, path: PathLike) -> Kitchen:
@@ -166,7 +168,7 @@ class Kitchen:
         return len(self.items)
 
     def __contains__(self, o: object) -> bool:
-        return isinstance(o, Object | Mapping) and _as_object(o) in set(self.items)  # type: ignore[arg-type]
+        return isinstance(o, Object | Mapping) and _as_object(o) in self.items  # type: ignore[arg-type]
 
     def without(self, drop: Iterable[ObjectLike]) -> Kitchen:
         """A copy without the given items."""
@@ -177,7 +179,9 @@ class Kitchen:
         return json.dumps([o.to_dict() for o in self.items], indent=4)
 
     def _tuples(self) -> list[tuple[str, list[str], list[str], str | None]]:
-        return [o._tuple() for o in self.items]
+        if self._cached is None:
+            self._cached = [o._tuple() for o in self.items]
+        return self._cached
 
     def __repr__(self) -> str:
         return f"Kitchen({len(self.items)} items)"
@@ -296,8 +300,7 @@ class TaskTree:
     expanded: int
     peak_frontier: int
     seconds: float
-    kitchen: Kitchen = field(repr=False, default_factory=Kitchen)
-    utensils: list[str] = field(repr=False, default_factory=list)
+    planner: Planner | None = field(repr=False, default=None)
 
     def __len__(self) -> int:
         return len(self.units)
@@ -356,10 +359,13 @@ class TaskTree:
 
     def is_valid(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> bool:
         """Whether the tree's units, in some order, make the goal from the kitchen (the one
-        planned with, unless another is given)."""
-        k = self.kitchen if kitchen is None else _as_kitchen(kitchen)
-        u = self.utensils if utensils is None else _as_utensils(utensils)
-        valid, _, _ = self.foon._native.check_tree(self.units, self.goal_id, k._tuples(), u)
+        planned with, unless another kitchen or utensil list is given)."""
+        p = self.planner
+        if p is None or kitchen is not None or utensils is not None:
+            p = self.foon.planner(
+                kitchen if kitchen is not None else (p.kitchen if p else None),
+                utensils=utensils if utensils is not None else (p.utensils if p else None))
+        valid, _, _ = p._native.check_tree(self.units, self.goal_id)
         return bool(valid)
 
 
@@ -531,28 +537,25 @@ class Foon:
     ) -> list[TaskTree]:
         """Plans many goals in one call: the kitchen is matched once, the interpreter is
         released, and the goals are spread over ``threads`` threads (all cores by default)."""
-        ids = [self.goal_id(g) for g in goals]
-        k = _as_kitchen(kitchen)
-        rates = _as_rates(motions)
-        u = _as_utensils(utensils)
-        if threads is not None and threads < 1:
-            raise ValueError("threads must be at least 1")
-        raw = self._native.plan(
-            ids, k._tuples(), u, None if rates is None else list(rates.items()),
-            default_rate, str(method), compat or "sound", count, threads)
-        return [self._tree(d, k, u) for d in raw]
+        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        return p.plan_many(goals, method, compat=compat, count=count, threads=threads)
 
-    def _tree(self, d: dict[str, Any], k: Kitchen, u: list[str]) -> TaskTree:
-        objs = self.object
-        return TaskTree(
-            foon=self, goal=objs(d["goal"]), goal_id=d["goal"], method=d["method"],
-            compat=d["compat"], count=d["count"], solved=d["solved"], units=list(d["units"]),
-            unresolved=[objs(o) for o in d["unresolved"]],
-            missing=[objs(o) for o in d["missing"]],
-            cycle=[objs(o) for o in d["cycle"]], cycle_units=list(d["cycle_units"]),
-            height=d["height"], success=d["success"], cost=d["cost"],
-            leaf_inputs=d["leaf_inputs"], expanded=d["expanded"],
-            peak_frontier=d["peak_frontier"], seconds=d["seconds"], kitchen=k, utensils=u)
+    def planner(
+        self,
+        kitchen: KitchenLike = None,
+        *,
+        motions: MotionsLike = None,
+        utensils: UtensilsLike = None,
+        default_rate: float | None = None,
+    ) -> Planner:
+        """Prepares the kitchen, utensils and motion rates once, for many plans."""
+        return Planner(self, kitchen, motions=motions, utensils=utensils,
+                       default_rate=default_rate)
+
+    def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
+        """Rank of every object from the kitchen: the fewest parallel steps that make it
+        (None when it cannot be made)."""
+        return self.planner(kitchen, utensils=utensils).ranks()
 
     def verify(
         self,
@@ -576,10 +579,74 @@ class Foon:
                          goal_absent=d["goal_absent"], blocked=blocked,
                          foreign_units=[tuple(x) for x in d["foreign_units"]])
 
-    def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
-        """Rank of every object from the kitchen: the fewest parallel steps that make it
+
+
+class Planner:
+    """A FOON with a kitchen, utensils and motion rates prepared once: plan any number of
+    goals without paying for the preparation again (it is what :meth:`Foon.plan` builds
+    for each call)."""
+
+    def __init__(
+        self,
+        foon: Foon,
+        kitchen: KitchenLike = None,
+        *,
+        motions: MotionsLike = None,
+        utensils: UtensilsLike = None,
+        default_rate: float | None = None,
+    ) -> None:
+        self.foon = foon
+        self.kitchen = _as_kitchen(kitchen)
+        self.motions = _as_rates(motions)
+        self.utensils = _as_utensils(utensils)
+        self.default_rate = default_rate
+        self._native = _foon.Planner(
+            foon._native, self.kitchen._tuples(), self.utensils,
+            None if self.motions is None else list(self.motions.items()), default_rate)
+
+    def plan(
+        self,
+        goal: ObjectLike | int | str,
+        method: Method | str = "ids",
+        *,
+        compat: Literal["course"] | None = None,
+        count: Literal["nodes", "ingredients"] = "nodes",
+    ) -> TaskTree:
+        """Plans one goal (see :meth:`Foon.plan`)."""
+        return self.plan_many([goal], method, compat=compat, count=count, threads=1)[0]
+
+    def plan_many(
+        self,
+        goals: Iterable[ObjectLike | int | str],
+        method: Method | str = "ids",
+        *,
+        compat: Literal["course"] | None = None,
+        count: Literal["nodes", "ingredients"] = "nodes",
+        threads: int | None = None,
+    ) -> list[TaskTree]:
+        """Plans many goals, spread over ``threads`` threads (all cores by default)."""
+        if threads is not None and threads < 1:
+            raise ValueError("threads must be at least 1")
+        ids = [self.foon.goal_id(g) for g in goals]
+        raw = self._native.plan(ids, str(method), compat or "sound", count, threads)
+        return [self._tree(d) for d in raw]
+
+    def ranks(self) -> list[int | None]:
+        """Rank of every object: the fewest parallel steps that make it from the kitchen
         (None when it cannot be made)."""
-        return list(self._native.ranks(_as_kitchen(kitchen)._tuples(), _as_utensils(utensils)))
+        return list(self._native.ranks())
+
+    def _tree(self, d: dict[str, Any]) -> TaskTree:
+        objs = self.foon.object
+        return TaskTree(
+            foon=self.foon, goal=objs(d["goal"]), goal_id=d["goal"], method=d["method"],
+            compat=d["compat"], count=d["count"], solved=d["solved"], units=list(d["units"]),
+            unresolved=[objs(o) for o in d["unresolved"]],
+            missing=[objs(o) for o in d["missing"]],
+            cycle=[objs(o) for o in d["cycle"]], cycle_units=list(d["cycle_units"]),
+            height=d["height"], success=d["success"], cost=d["cost"],
+            leaf_inputs=d["leaf_inputs"], expanded=d["expanded"],
+            peak_frontier=d["peak_frontier"], seconds=d["seconds"], planner=self)
 
 
 def load(path: PathLike, *, strict: bool = False) -> Foon:

@@ -14,4 +14,4 @@ pub use companion::{MotionRates, ObjectSpec};
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
 pub use index::{Foon, NONE, Stats};
 pub use parse::{ParseOptions, load_foon, parse_foon};
-pub use search::{Compat, Context, Count, Explanation, Method, Plan, Query};
+pub use search::{Compat, Context, Count, Explanation, Method, Plan, Prepared, Query};

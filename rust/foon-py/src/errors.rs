@@ -72,8 +72,6 @@ impl From<PyFoonErr> for PyErr {
     }
 }
 
-pub(crate) type PyFoonResult<T> = Result<T, PyFoonErr>;
-
 /// Runs core work with the interpreter detached and maps its error.
 pub(crate) fn run_detached<T: Send>(
     py: Python<'_>,

@@ -9,12 +9,12 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use foon_core::companion::{self, MotionRates, ObjectSpec};
-use foon_core::search::{self, Compat, Context, Count, Method, Plan, Query};
+use foon_core::search::{self, Compat, Context, Count, Method, Plan, Prepared, Query};
 use foon_core::{InputKind, ParseOptions, verify, write};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
-use errors::{PyFoonResult, run_detached};
+use errors::run_detached;
 
 /// An object as Python sees it: (label, states, ingredients, container).
 type ObjTuple = (String, Vec<String>, Vec<String>, Option<String>);
@@ -61,51 +61,6 @@ fn text_bytes(text: &Bound<'_, PyAny>) -> PyResult<Vec<u8>> {
 #[pyclass(frozen, module = "foon._foon", name = "Foon")]
 struct PyFoon {
     inner: Arc<foon_core::Foon>,
-}
-
-/// Planning inputs, converted once.
-struct Setting {
-    kitchen: Vec<ObjectSpec>,
-    utensils: Vec<String>,
-    rates: Option<MotionRates>,
-    default_rate: Option<f64>,
-    query: Query,
-}
-
-impl Setting {
-    fn new(
-        kitchen: Vec<ObjTuple>,
-        utensils: Vec<String>,
-        rates: Option<Vec<(String, f64)>>,
-        default_rate: Option<f64>,
-        method: &str,
-        compat: &str,
-        count: &str,
-    ) -> PyFoonResult<Self> {
-        let query = Query {
-            method: method.parse()?,
-            compat: compat.parse()?,
-            count: count.parse()?,
-        };
-        let rates = rates.map(MotionRates::from_pairs).transpose()?;
-        Ok(Self {
-            kitchen: kitchen.into_iter().map(spec_of).collect(),
-            utensils,
-            rates,
-            default_rate,
-            query,
-        })
-    }
-
-    fn context<'a>(&'a self, foon: &'a foon_core::Foon) -> foon_core::Result<Context<'a>> {
-        Context::new(
-            foon,
-            &self.kitchen,
-            &self.utensils,
-            self.rates.as_ref(),
-            self.default_rate,
-        )
-    }
 }
 
 fn plan_dict<'py>(py: Python<'py>, p: &Plan) -> PyResult<Bound<'py, PyDict>> {
@@ -305,86 +260,6 @@ impl PyFoon {
         Ok(self.inner.consumers(o).to_vec())
     }
 
-    /// Plans every goal (object ids); returns one result dict per goal. With more than one
-    /// goal the work is spread over `threads` threads (all cores when None).
-    #[pyo3(signature = (goals, kitchen, utensils, rates, default_rate, method, compat, count, threads = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn plan<'py>(
-        &self,
-        py: Python<'py>,
-        goals: Vec<u32>,
-        kitchen: Vec<ObjTuple>,
-        utensils: Vec<String>,
-        rates: Option<Vec<(String, f64)>>,
-        default_rate: Option<f64>,
-        method: &str,
-        compat: &str,
-        count: &str,
-        threads: Option<usize>,
-    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-        let setting = Setting::new(
-            kitchen,
-            utensils,
-            rates,
-            default_rate,
-            method,
-            compat,
-            count,
-        )?;
-        for &g in &goals {
-            self.check_object(g)?;
-        }
-        let foon = &self.inner;
-        let plans = run_detached(py, || {
-            let ctx = setting.context(foon)?;
-            if goals.len() <= 1 || threads == Some(1) {
-                goals
-                    .iter()
-                    .map(|&g| ctx.plan(g, setting.query))
-                    .collect::<Result<Vec<_>, _>>()
-            } else {
-                let run = || {
-                    search::plan_many(&ctx, &goals, setting.query)
-                        .into_iter()
-                        .collect::<Result<Vec<_>, _>>()
-                };
-                match threads {
-                    Some(n) => rayon::ThreadPoolBuilder::new()
-                        .num_threads(n)
-                        .build()
-                        .map_err(|e| foon_core::Error::Invalid(e.to_string()))?
-                        .install(run),
-                    None => run(),
-                }
-            }
-        })?;
-        plans.iter().map(|p| plan_dict(py, p)).collect()
-    }
-
-    /// Checks a tree: (valid in some order, height, first position in the given order whose
-    /// needed inputs are unavailable with those inputs).
-    #[pyo3(signature = (units, goal, kitchen, utensils))]
-    fn check_tree(
-        &self,
-        py: Python<'_>,
-        units: Vec<u32>,
-        goal: u32,
-        kitchen: Vec<ObjTuple>,
-        utensils: Vec<String>,
-    ) -> PyResult<TreeCheck> {
-        self.check_object(goal)?;
-        for &f in &units {
-            self.check_fu(f)?;
-        }
-        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
-        let foon = &self.inner;
-        run_detached(py, || {
-            let ctx = Context::new(foon, &kitchen, &utensils, None, None)?;
-            let m = ctx.metrics(&units, goal);
-            Ok((m.height.is_some(), m.height, ctx.first_unavailable(&units)))
-        })
-    }
-
     /// Checks the task tree in `tree` (a parsed tree file) against this FOON, in its order.
     fn verify_tree<'py>(
         &self,
@@ -395,30 +270,6 @@ impl PyFoon {
         goal: ObjTuple,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.verify_tree_impl(py, &tree.inner, kitchen, utensils, goal)
-    }
-
-    /// Ranks from the kitchen: one entry per object (None when not derivable).
-    fn ranks(
-        &self,
-        py: Python<'_>,
-        kitchen: Vec<ObjTuple>,
-        utensils: Vec<String>,
-    ) -> PyResult<Vec<Option<u32>>> {
-        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
-        let foon = &self.inner;
-        run_detached(py, || {
-            let ctx = Context::new(foon, &kitchen, &utensils, None, None)?;
-            let r = ctx.ranks();
-            Ok((0..foon.object_count() as u32).map(|o| r.rank(o)).collect())
-        })
-    }
-
-    /// Object ids of the kitchen items found in this FOON, in id order.
-    fn kitchen_objects(&self, kitchen: Vec<ObjTuple>) -> PyResult<Vec<u32>> {
-        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
-        let ctx =
-            Context::new(&self.inner, &kitchen, &[], None, None).map_err(errors::PyFoonErr)?;
-        Ok(ctx.kitchen_objects().to_vec())
     }
 }
 
@@ -455,25 +306,147 @@ impl PyFoon {
     }
 
     fn check_object(&self, o: u32) -> PyResult<()> {
-        if (o as usize) < self.inner.object_count() {
-            Ok(())
-        } else {
-            Err(pyo3::exceptions::PyIndexError::new_err(format!(
-                "object id {o} is out of range (the FOON has {} objects)",
-                self.inner.object_count()
-            )))
-        }
+        check_object(&self.inner, o)
     }
 
     fn check_fu(&self, f: u32) -> PyResult<()> {
-        if (f as usize) < self.inner.fu_count() {
-            Ok(())
-        } else {
-            Err(pyo3::exceptions::PyIndexError::new_err(format!(
-                "functional unit {f} is out of range (the FOON has {})",
-                self.inner.fu_count()
-            )))
+        check_fu(&self.inner, f)
+    }
+}
+
+/// A FOON with its planning inputs (kitchen, utensils, motion rates) prepared once, for any
+/// number of plans.
+#[pyclass(frozen, module = "foon._foon", name = "Planner")]
+struct PyPlanner {
+    foon: Arc<foon_core::Foon>,
+    prep: Arc<Prepared>,
+}
+
+#[pymethods]
+impl PyPlanner {
+    #[new]
+    #[pyo3(signature = (foon, kitchen, utensils, rates = None, default_rate = None))]
+    fn new(
+        py: Python<'_>,
+        foon: &PyFoon,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        rates: Option<Vec<(String, f64)>>,
+        default_rate: Option<f64>,
+    ) -> PyResult<Self> {
+        let kitchen: Vec<ObjectSpec> = kitchen.into_iter().map(spec_of).collect();
+        let rates = rates
+            .map(MotionRates::from_pairs)
+            .transpose()
+            .map_err(errors::PyFoonErr)?;
+        let f = Arc::clone(&foon.inner);
+        let prep = run_detached(py, || {
+            Prepared::new(&f, &kitchen, &utensils, rates.as_ref(), default_rate)
+        })?;
+        Ok(Self {
+            foon: f,
+            prep: Arc::new(prep),
+        })
+    }
+
+    /// Plans every goal (object ids); one result dict per goal. With more than one goal the
+    /// work is spread over `threads` threads (all cores when None).
+    #[pyo3(signature = (goals, method, compat, count, threads = None))]
+    fn plan<'py>(
+        &self,
+        py: Python<'py>,
+        goals: Vec<u32>,
+        method: &str,
+        compat: &str,
+        count: &str,
+        threads: Option<usize>,
+    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let query = Query {
+            method: method.parse().map_err(errors::PyFoonErr)?,
+            compat: compat.parse().map_err(errors::PyFoonErr)?,
+            count: count.parse().map_err(errors::PyFoonErr)?,
+        };
+        for &g in &goals {
+            check_object(&self.foon, g)?;
         }
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        let plans = run_detached(py, || {
+            let ctx = Context::with(foon, prep)?;
+            if goals.len() <= 1 || threads == Some(1) {
+                goals
+                    .iter()
+                    .map(|&g| ctx.plan(g, query))
+                    .collect::<Result<Vec<_>, _>>()
+            } else {
+                let run = || {
+                    search::plan_many(&ctx, &goals, query)
+                        .into_iter()
+                        .collect::<Result<Vec<_>, _>>()
+                };
+                match threads {
+                    Some(n) => rayon::ThreadPoolBuilder::new()
+                        .num_threads(n)
+                        .build()
+                        .map_err(|e| foon_core::Error::Invalid(e.to_string()))?
+                        .install(run),
+                    None => run(),
+                }
+            }
+        })?;
+        plans.iter().map(|p| plan_dict(py, p)).collect()
+    }
+
+    /// Checks a tree: (valid in some order, height, first position in the given order whose
+    /// needed inputs are unavailable with those inputs).
+    fn check_tree(&self, py: Python<'_>, units: Vec<u32>, goal: u32) -> PyResult<TreeCheck> {
+        check_object(&self.foon, goal)?;
+        for &f in &units {
+            check_fu(&self.foon, f)?;
+        }
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        run_detached(py, || {
+            let ctx = Context::with(foon, prep)?;
+            let m = ctx.metrics(&units, goal);
+            Ok((m.height.is_some(), m.height, ctx.first_unavailable(&units)))
+        })
+    }
+
+    /// Rank of every object (None when not derivable from the kitchen).
+    fn ranks(&self, py: Python<'_>) -> PyResult<Vec<Option<u32>>> {
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        run_detached(py, || {
+            let ctx = Context::with(foon, prep)?;
+            let r = ctx.ranks();
+            Ok((0..foon.object_count() as u32).map(|o| r.rank(o)).collect())
+        })
+    }
+
+    /// Object ids of the kitchen items found in the FOON, in id order.
+    fn kitchen_objects(&self) -> PyResult<Vec<u32>> {
+        let ctx = Context::with(&self.foon, &self.prep).map_err(errors::PyFoonErr)?;
+        Ok(ctx.kitchen_objects().to_vec())
+    }
+}
+
+fn check_object(foon: &foon_core::Foon, o: u32) -> PyResult<()> {
+    if (o as usize) < foon.object_count() {
+        Ok(())
+    } else {
+        Err(pyo3::exceptions::PyIndexError::new_err(format!(
+            "object id {o} is out of range (the FOON has {} objects)",
+            foon.object_count()
+        )))
+    }
+}
+
+fn check_fu(foon: &foon_core::Foon, f: u32) -> PyResult<()> {
+    if (f as usize) < foon.fu_count() {
+        Ok(())
+    } else {
+        Err(pyo3::exceptions::PyIndexError::new_err(format!(
+            "functional unit {f} is out of range (the FOON has {})",
+            foon.fu_count()
+        )))
     }
 }
 
@@ -537,8 +510,8 @@ fn methods() -> Vec<&'static str> {
 mod _foon {
     #[pymodule_export]
     use super::{
-        PyFoon, load_objects, load_rates, load_utensils, methods, parse_objects, parse_rates,
-        parse_utensils,
+        PyFoon, PyPlanner, load_objects, load_rates, load_utensils, methods, parse_objects,
+        parse_rates, parse_utensils,
     };
 
     #[pymodule_export]

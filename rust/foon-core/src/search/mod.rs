@@ -172,10 +172,12 @@ pub struct Plan {
     pub seconds: f64,
 }
 
-/// Everything planning needs besides the goal: the FOON, the kitchen, the utensils (container
-/// rule), the motion rates. Built once, then shared by any number of searches and threads.
-pub struct Context<'a> {
-    pub foon: &'a Foon,
+/// Planning inputs prepared for one FOON: the kitchen matched to objects, the container rule
+/// applied (needed inputs), the motion rate of every FU. It owns its data, so it can be kept
+/// and reused for any number of plans ([`Context::with`]); it is `Send + Sync`.
+pub struct Prepared {
+    objects: usize,
+    fus: usize,
     in_kitchen: Vec<bool>,
     kitchen_objects: Vec<u32>,
     /// Needed inputs of each FU (container rule applied), in input order.
@@ -185,13 +187,13 @@ pub struct Context<'a> {
     fu_rate: Vec<f64>,
     rates_given: bool,
     ranks: OnceLock<Ranks>,
-    stop: Option<&'a AtomicBool>,
 }
 
-impl<'a> Context<'a> {
-    /// Builds the context. `rates` may be `None`; `default_rate` fills motions missing from it.
+impl Prepared {
+    /// Prepares `kitchen`, `utensils` and `rates` for `foon`. `rates` may be `None`;
+    /// `default_rate` fills motions missing from it.
     pub fn new(
-        foon: &'a Foon,
+        foon: &Foon,
         kitchen: &[ObjectSpec],
         utensils: &[String],
         rates: Option<&MotionRates>,
@@ -235,7 +237,8 @@ impl<'a> Context<'a> {
             })
             .collect();
         Ok(Self {
-            foon,
+            objects: n,
+            fus: n_fu as usize,
             in_kitchen,
             kitchen_objects,
             needed,
@@ -243,6 +246,60 @@ impl<'a> Context<'a> {
             fu_rate,
             rates_given: rates.is_some() || default_rate.is_some(),
             ranks: OnceLock::new(),
+        })
+    }
+}
+
+enum Prep<'a> {
+    Owned(Box<Prepared>),
+    Borrowed(&'a Prepared),
+}
+
+/// Everything planning needs besides the goal: the FOON and its [`Prepared`] inputs. Shared by
+/// any number of searches and threads.
+pub struct Context<'a> {
+    pub foon: &'a Foon,
+    prep: Prep<'a>,
+    stop: Option<&'a AtomicBool>,
+}
+
+impl std::ops::Deref for Context<'_> {
+    type Target = Prepared;
+    fn deref(&self) -> &Prepared {
+        match &self.prep {
+            Prep::Owned(p) => p,
+            Prep::Borrowed(p) => p,
+        }
+    }
+}
+
+impl<'a> Context<'a> {
+    /// Builds the context (see [`Prepared::new`]).
+    pub fn new(
+        foon: &'a Foon,
+        kitchen: &[ObjectSpec],
+        utensils: &[String],
+        rates: Option<&MotionRates>,
+        default_rate: Option<f64>,
+    ) -> Result<Self> {
+        let p = Prepared::new(foon, kitchen, utensils, rates, default_rate)?;
+        Ok(Self {
+            foon,
+            prep: Prep::Owned(Box::new(p)),
+            stop: None,
+        })
+    }
+
+    /// A context over inputs prepared earlier for this same FOON.
+    pub fn with(foon: &'a Foon, prep: &'a Prepared) -> Result<Self> {
+        if prep.objects != foon.object_count() || prep.fus != foon.fu_count() {
+            return Err(Error::Invalid(
+                "these planning inputs were prepared for another FOON".into(),
+            ));
+        }
+        Ok(Self {
+            foon,
+            prep: Prep::Borrowed(prep),
             stop: None,
         })
     }
