@@ -33,6 +33,7 @@ __version__: str = _foon.__version__
 __all__ = [
     "METHODS",
     "Blocked",
+    "Finding",
     "Example",
     "Foon",
     "FoonError",
@@ -47,6 +48,7 @@ __all__ = [
     "Planner",
     "TaskTree",
     "TreeCheck",
+    "check",
     "example",
     "load",
     "load_utensils",
@@ -647,6 +649,42 @@ class Planner:
             height=d["height"], success=d["success"], cost=d["cost"],
             leaf_inputs=d["leaf_inputs"], expanded=d["expanded"],
             peak_frontier=d["peak_frontier"], seconds=d["seconds"], planner=self)
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One problem found by :func:`check`."""
+
+    path: str | None
+    line: int
+    column: int
+    severity: Literal["error", "warning", "note"]
+    code: str
+    message: str
+
+    def __str__(self) -> str:
+        return (f"{self.path or '<string>'}:{self.line}:{self.column}: {self.severity}: "
+                f"{self.message} [{self.code}]")
+
+
+def check(
+    paths: PathLike | Iterable[PathLike],
+    *,
+    kitchen: KitchenLike = None,
+    motions: MotionsLike = None,
+    utensils: UtensilsLike = None,
+) -> list[Finding]:
+    """Lints FOON files: parse errors, annotation faults (no motion, two motions, no final
+    ``//``), duplicate units, ingredients with stray spaces or listed twice, empty
+    containers, objects reachable only through cycles; with a kitchen, objects that are used
+    but never produced nor in it; with motion rates, motions without a rate. Files of object
+    blocks (kitchens, goals) are checked as such."""
+    ps = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
+    rates = _as_rates(motions)
+    raw = _foon.check([os.fspath(p) for p in ps],
+                      None if kitchen is None else _as_kitchen(kitchen)._tuples(),
+                      None if rates is None else list(rates.items()), _as_utensils(utensils))
+    return [Finding(*f) for f in raw]  # type: ignore[arg-type]
 
 
 def load(path: PathLike, *, strict: bool = False) -> Foon:

@@ -290,6 +290,49 @@ def cmd_verify(args: argparse.Namespace) -> int:
     return 0 if r.valid else 1
 
 
+def _looks_like_foon(path: Path) -> bool:
+    """A text file whose first meaningful line is an O, S or M line or `//`."""
+    try:
+        with path.open("rb") as fh:
+            for raw in fh:
+                line = raw.strip()
+                if not line or line.startswith(b"#"):
+                    continue
+                return line[:1] in (b"O", b"S", b"M") or line.startswith(b"//")
+    except OSError:
+        return True  # let the checker report it
+    return False
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    files: list[Path] = []
+    skipped = 0
+    for name in args.paths:
+        p = Path(name)
+        if p.is_dir():
+            for q in sorted(p.rglob("*.txt")):
+                if _looks_like_foon(q):
+                    files.append(q)
+                else:
+                    skipped += 1
+        else:
+            files.append(p)
+    kitchen = foon.Kitchen.load(args.kitchen) if args.kitchen else None
+    motions = foon.MotionRates.load(args.motions) if args.motions else None
+    utensils = foon.load_utensils(args.utensils) if args.utensils else None
+    findings = foon.check(files, kitchen=kitchen, motions=motions, utensils=utensils)
+    if args.json:
+        sys.stdout.write(json.dumps([f.__dict__ for f in findings], indent=2) + "\n")
+    else:
+        for f in findings:
+            print(f)
+        counts = {s: sum(f.severity == s for f in findings) for s in ("error", "warning", "note")}
+        note = f" ({skipped} non-FOON .txt files skipped)" if skipped else ""
+        print(f"{len(files)} files checked{note}: {counts['error']} errors, "
+              f"{counts['warning']} warnings, {counts['note']} notes", file=sys.stderr)
+    return 1 if findings else 0
+
+
 def cmd_stats(args: argparse.Namespace) -> int:
     rows = []
     for path in args.files:
@@ -387,6 +430,20 @@ def build_parser() -> argparse.ArgumentParser:
     vp.add_argument("tree", metavar="TREE_FILE")
     vp.add_argument("--json", action="store_true", help="machine-readable output")
     vp.set_defaults(func=cmd_verify)
+
+    ck = sub.add_parser(
+        "check",
+        help="lint FOON files",
+        description="Lists every error, warning and note of FOON files with file:line:column. "
+        "Folders are searched for FOON .txt files. Exit code 0 clean, 1 findings, 2 usage.",
+    )
+    ck.add_argument("paths", nargs="+", metavar="FILE_OR_DIR")
+    ck.add_argument("--kitchen", metavar="FILE", help="also report objects nobody produces "
+                    "that this kitchen lacks")
+    ck.add_argument("--motions", metavar="FILE", help="also report motions without a rate")
+    ck.add_argument("--utensils", metavar="FILE", help="utensil list (container rule)")
+    ck.add_argument("--json", action="store_true", help="machine-readable output")
+    ck.set_defaults(func=cmd_check)
 
     st = sub.add_parser("stats", help="counts of a FOON file")
     st.add_argument("files", nargs="+", metavar="FILE")

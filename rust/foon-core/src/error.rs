@@ -163,6 +163,12 @@ pub enum WarningKind {
     TwoMotions,
     /// The last FU has no closing `//`; it is kept.
     Unterminated,
+    /// Lint note: an ingredient with leading or trailing spaces (`{a, b}`).
+    SpacedIngredient,
+    /// Lint note: the same ingredient twice in one list.
+    DuplicateIngredient,
+    /// Lint note: `[]`, an empty container name.
+    EmptyContainer,
 }
 
 impl WarningKind {
@@ -171,6 +177,9 @@ impl WarningKind {
             Self::NoMotion => "no-motion",
             Self::TwoMotions => "two-motions",
             Self::Unterminated => "unterminated",
+            Self::SpacedIngredient => "spaced-ingredient",
+            Self::DuplicateIngredient => "duplicate-ingredient",
+            Self::EmptyContainer => "empty-container",
         }
     }
 }

@@ -171,6 +171,8 @@ pub struct Foon {
     pub(crate) identity: FxHashMap<Box<[u32]>, u32>,
     // Load report.
     pub(crate) warnings: Vec<Warning>,
+    /// Lint notes found while parsing (not warnings: strict mode ignores them).
+    pub(crate) notes: Vec<Warning>,
     pub(crate) duplicates: Vec<DuplicateFu>,
     pub(crate) source: Option<PathBuf>,
 }
@@ -213,6 +215,11 @@ impl Foon {
 
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
+    }
+
+    /// Lint notes found while parsing (spaced or repeated ingredients, empty containers).
+    pub fn notes(&self) -> &[Warning] {
+        &self.notes
     }
 
     pub fn duplicates(&self) -> &[DuplicateFu] {
@@ -607,6 +614,10 @@ impl Builder {
 
     pub fn warn(&mut self, w: Warning) {
         self.foon.warnings.push(w);
+    }
+
+    pub fn note(&mut self, w: Warning) {
+        self.foon.notes.push(w);
     }
 
     /// Finishes the index: builds producers (course rule) and consumers.

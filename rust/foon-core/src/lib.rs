@@ -5,6 +5,7 @@
 pub mod companion;
 pub mod error;
 pub mod index;
+pub mod lint;
 pub mod parse;
 pub mod search;
 pub mod verify;

@@ -204,6 +204,8 @@ struct Block {
     last_line: u64,
     two_motions: bool,
     has_lines: bool,
+    /// A line of this unit was malformed (recovering parse): the unit is dropped.
+    poisoned: bool,
 }
 
 #[derive(Clone, Copy)]
@@ -224,6 +226,7 @@ impl Block {
         self.first_output = 0;
         self.two_motions = false;
         self.has_lines = false;
+        self.poisoned = false;
     }
 
     fn raw(&self, span: &ObjSpan) -> RawObject<'_> {
@@ -240,6 +243,32 @@ impl Block {
 
 /// Parses FOON text into an index.
 pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Result<Foon> {
+    parse_impl(data, path, opts, None)
+}
+
+/// Parses FOON text, going on after malformed lines: each error is collected and the unit it
+/// belongs to is dropped. Used by the linter, which reports every problem at once.
+pub fn parse_foon_recovering(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+) -> (Foon, Vec<Error>) {
+    let mut errors = Vec::new();
+    match parse_impl(data, path, opts, Some(&mut errors)) {
+        Ok(f) => (f, errors),
+        Err(e) => {
+            errors.push(e);
+            (Builder::new().finish(path.map(Path::to_path_buf)), errors)
+        }
+    }
+}
+
+fn parse_impl(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    mut errors: Option<&mut Vec<Error>>,
+) -> Result<Foon> {
     let mut b = Builder::new();
     let mut block = Block::default();
     let mut fields: Vec<(usize, &str)> = Vec::new();
@@ -248,7 +277,7 @@ pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Resul
     };
 
     let finish = |b: &mut Builder, block: &mut Block, end_line: Option<u64>| -> Result<()> {
-        if !block.has_lines {
+        if !block.has_lines || block.poisoned {
             block.clear();
             return Ok(());
         }
@@ -275,6 +304,7 @@ pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Resul
         };
         if let Some((line, kind, message)) = warning {
             if opts.strict {
+                block.clear();
                 return Err(err(line, 1, format!("{message} (strict mode)")));
             }
             b.warn(Warning {
@@ -293,156 +323,203 @@ pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Resul
     };
 
     for line in Lines::new(data, path, InputKind::Foon) {
-        let line = line?;
-        let kind = classify(&line, &mut fields).map_err(|(c, r)| err(line.number, c, r))?;
-        match kind {
-            LineKind::Blank | LineKind::Comment => continue,
-            LineKind::End => {
-                finish(&mut b, &mut block, Some(line.number))?;
-                continue;
-            }
-            _ => {}
-        }
-        if !block.has_lines {
-            block.has_lines = true;
-            block.start_line = line.number;
-        }
-        block.last_line = line.number;
-        let Some(&(f1_off, f1)) = fields.get(1) else {
-            let what = match kind {
-                LineKind::Object => "object label",
-                LineKind::State => "state",
-                _ => "motion",
-            };
-            return Err(err(
-                line.number,
-                line.column_of(line.text.len()),
-                format!("missing {what} (no TAB-separated field)"),
-            ));
-        };
-        let value = normalise(f1);
-        if value.is_empty() && !(kind == LineKind::State && fields.len() > 2) {
-            let what = match kind {
-                LineKind::Object => "object label",
-                LineKind::State => "state",
-                _ => "motion",
-            };
-            return Err(err(
-                line.number,
-                line.column_of(f1_off),
-                format!("empty {what}"),
-            ));
-        }
-        match kind {
-            LineKind::Object => {
-                let label = b.intern(&value);
-                let in_motion = match fields.get(2).map(|(_, f)| f.trim()) {
-                    Some("0") => 0,
-                    Some("1") => 1,
-                    _ => 2,
-                };
-                let n_states = block.states.len() as u32;
-                let n_ingr = block.ingredients.len() as u32;
-                block.objects.push(ObjSpan {
-                    label,
-                    container: NONE,
-                    in_motion,
-                    states: (n_states, n_states),
-                    ingredients: (n_ingr, n_ingr),
-                });
-            }
-            LineKind::State => {
-                let first_of_fu = if block.motion.is_some() {
-                    block.first_output
-                } else {
-                    0
-                };
-                if block.objects.len() <= first_of_fu {
-                    return Err(err(
-                        line.number,
-                        1,
-                        "state line before any object of this functional unit".to_owned(),
-                    ));
+        let ended = std::cell::Cell::new(false);
+        let mut one_line = || -> Result<()> {
+            let line = line?;
+            let kind = classify(&line, &mut fields).map_err(|(c, r)| err(line.number, c, r))?;
+            match kind {
+                LineKind::Blank | LineKind::Comment => return Ok(()),
+                LineKind::End => {
+                    ended.set(true);
+                    finish(&mut b, &mut block, Some(line.number))?;
+                    return Ok(());
                 }
-                if let Some(&(f2_off, f2)) = fields.get(2) {
-                    let v = f2.trim_end();
-                    let col = line.column_of(f2_off);
-                    if let Some(inner) = v.strip_prefix('{') {
-                        let Some(inner) = inner.strip_suffix('}') else {
-                            return Err(err(
-                                line.number,
-                                col,
-                                "ingredient list has no closing '}'".to_owned(),
-                            ));
-                        };
-                        let start = block.ingredients.len() as u32;
-                        for ing in inner.split(',') {
-                            let id = b.intern(ing);
-                            block.ingredients.push(id);
-                        }
-                        // A later list replaces an earlier one (course behaviour), so the
-                        // object's range is the latest list.
-                        let end = block.ingredients.len() as u32;
-                        if let Some(o) = block.objects.last_mut() {
-                            o.ingredients = (start, end);
-                        }
-                    } else if let Some(inner) = v.strip_prefix('[') {
-                        let Some(inner) = inner.strip_suffix(']') else {
-                            return Err(err(
-                                line.number,
-                                col,
-                                "container has no closing ']'".to_owned(),
-                            ));
-                        };
-                        let id = b.intern(inner);
-                        if let Some(o) = block.objects.last_mut() {
-                            o.container = id;
-                        }
+                _ => {}
+            }
+            if !block.has_lines {
+                block.has_lines = true;
+                block.start_line = line.number;
+            }
+            block.last_line = line.number;
+            let Some(&(f1_off, f1)) = fields.get(1) else {
+                let what = match kind {
+                    LineKind::Object => "object label",
+                    LineKind::State => "state",
+                    _ => "motion",
+                };
+                return Err(err(
+                    line.number,
+                    line.column_of(line.text.len()),
+                    format!("missing {what} (no TAB-separated field)"),
+                ));
+            };
+            let value = normalise(f1);
+            if value.is_empty() && !(kind == LineKind::State && fields.len() > 2) {
+                let what = match kind {
+                    LineKind::Object => "object label",
+                    LineKind::State => "state",
+                    _ => "motion",
+                };
+                return Err(err(
+                    line.number,
+                    line.column_of(f1_off),
+                    format!("empty {what}"),
+                ));
+            }
+            match kind {
+                LineKind::Object => {
+                    let label = b.intern(&value);
+                    let in_motion = match fields.get(2).map(|(_, f)| f.trim()) {
+                        Some("0") => 0,
+                        Some("1") => 1,
+                        _ => 2,
+                    };
+                    let n_states = block.states.len() as u32;
+                    let n_ingr = block.ingredients.len() as u32;
+                    block.objects.push(ObjSpan {
+                        label,
+                        container: NONE,
+                        in_motion,
+                        states: (n_states, n_states),
+                        ingredients: (n_ingr, n_ingr),
+                    });
+                }
+                LineKind::State => {
+                    let first_of_fu = if block.motion.is_some() {
+                        block.first_output
                     } else {
-                        let shown: String = v.chars().take(30).collect();
+                        0
+                    };
+                    if block.objects.len() <= first_of_fu {
                         return Err(err(
                             line.number,
-                            col,
-                            format!(
-                                "expected '{{ingredients}}' or '[container]' in the third field, found '{shown}'"
-                            ),
+                            1,
+                            "state line before any object of this functional unit".to_owned(),
                         ));
                     }
-                } else {
-                    let id = b.intern(&value);
-                    push_state(&mut block, id);
-                }
-            }
-            LineKind::Motion => {
-                if block.motion.is_some() {
-                    if !block.two_motions {
-                        block.two_motions = true;
-                        let message = format!(
-                            "functional unit starting at line {} has a second motion line; it is dropped",
-                            block.start_line
-                        );
-                        if opts.strict {
-                            return Err(err(line.number, 1, format!("{message} (strict mode)")));
+                    if let Some(&(f2_off, f2)) = fields.get(2) {
+                        let v = f2.trim_end();
+                        let col = line.column_of(f2_off);
+                        if let Some(inner) = v.strip_prefix('{') {
+                            let Some(inner) = inner.strip_suffix('}') else {
+                                return Err(err(
+                                    line.number,
+                                    col,
+                                    "ingredient list has no closing '}'".to_owned(),
+                                ));
+                            };
+                            let start = block.ingredients.len() as u32;
+                            let mut offset = f2_off + 1;
+                            for ing in inner.split(',') {
+                                let at = Location::new(path, line.number, line.column_of(offset));
+                                if ing != ing.trim() {
+                                    b.note(Warning {
+                                        at: at.clone(),
+                                        kind: WarningKind::SpacedIngredient,
+                                        message: format!(
+                                            "ingredient '{ing}' has leading or trailing spaces"
+                                        ),
+                                    });
+                                }
+                                let id = b.intern(ing);
+                                if block.ingredients[start as usize..].contains(&id) {
+                                    b.note(Warning {
+                                        at,
+                                        kind: WarningKind::DuplicateIngredient,
+                                        message: format!("ingredient '{ing}' is listed twice"),
+                                    });
+                                }
+                                block.ingredients.push(id);
+                                offset += ing.len() + 1;
+                            }
+                            // A later list replaces an earlier one (course behaviour), so the
+                            // object's range is the latest list.
+                            let end = block.ingredients.len() as u32;
+                            if let Some(o) = block.objects.last_mut() {
+                                o.ingredients = (start, end);
+                            }
+                        } else if let Some(inner) = v.strip_prefix('[') {
+                            let Some(inner) = inner.strip_suffix(']') else {
+                                return Err(err(
+                                    line.number,
+                                    col,
+                                    "container has no closing ']'".to_owned(),
+                                ));
+                            };
+                            if inner.trim().is_empty() {
+                                b.note(Warning {
+                                    at: Location::new(path, line.number, col),
+                                    kind: WarningKind::EmptyContainer,
+                                    message: format!("empty container '{v}'"),
+                                });
+                            }
+                            let id = b.intern(inner);
+                            if let Some(o) = block.objects.last_mut() {
+                                o.container = id;
+                            }
+                        } else {
+                            let shown: String = v.chars().take(30).collect();
+                            return Err(err(
+                                line.number,
+                                col,
+                                format!(
+                                    "expected '{{ingredients}}' or '[container]' in the third field, found '{shown}'"
+                                ),
+                            ));
                         }
-                        b.warn(Warning {
-                            at: Location::new(path, line.number, 1),
-                            kind: WarningKind::TwoMotions,
-                            message,
-                        });
+                    } else {
+                        let id = b.intern(&value);
+                        push_state(&mut block, id);
                     }
-                    continue;
                 }
-                let motion = b.intern(&value);
-                let meta = if fields.len() > 2 {
-                    let rest: Vec<&str> = fields[2..].iter().map(|(_, f)| f.trim()).collect();
-                    b.intern(&rest.join("\t"))
-                } else {
-                    NONE
-                };
-                block.motion = Some((motion, meta));
-                block.first_output = block.objects.len();
+                LineKind::Motion => {
+                    if block.motion.is_some() {
+                        if !block.two_motions {
+                            block.two_motions = true;
+                            let message = format!(
+                                "functional unit starting at line {} has a second motion line; it is dropped",
+                                block.start_line
+                            );
+                            if opts.strict {
+                                return Err(err(
+                                    line.number,
+                                    1,
+                                    format!("{message} (strict mode)"),
+                                ));
+                            }
+                            b.warn(Warning {
+                                at: Location::new(path, line.number, 1),
+                                kind: WarningKind::TwoMotions,
+                                message,
+                            });
+                        }
+                        return Ok(());
+                    }
+                    let motion = b.intern(&value);
+                    let meta = if fields.len() > 2 {
+                        let rest: Vec<&str> = fields[2..].iter().map(|(_, f)| f.trim()).collect();
+                        b.intern(&rest.join("\t"))
+                    } else {
+                        NONE
+                    };
+                    block.motion = Some((motion, meta));
+                    block.first_output = block.objects.len();
+                }
+                _ => {}
             }
-            _ => {}
+
+            Ok(())
+        };
+        if let Err(e) = one_line() {
+            let Some(errs) = errors.as_deref_mut() else {
+                return Err(e);
+            };
+            errs.push(e);
+            if !ended.get() {
+                // Drop the unit the bad line belongs to (a `//` error has ended its unit).
+                block.has_lines = true;
+                block.poisoned = true;
+            }
         }
     }
     finish(&mut b, &mut block, None)?;

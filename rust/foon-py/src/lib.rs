@@ -500,6 +500,52 @@ fn parse_utensils(text: &Bound<'_, PyAny>, path: Option<PathBuf>) -> PyResult<Ve
     Ok(companion::parse_utensils(&data, path.as_deref()).map_err(errors::PyFoonErr)?)
 }
 
+/// A lint finding: (path, line, column, severity, code, message).
+type FindingTuple = (Option<String>, u64, u32, &'static str, &'static str, String);
+
+/// Checks FOON files: every error, warning and note of each, in line order.
+#[pyfunction]
+#[pyo3(signature = (paths, kitchen = None, rates = None, utensils = Vec::new()))]
+fn check(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    kitchen: Option<Vec<ObjTuple>>,
+    rates: Option<Vec<(String, f64)>>,
+    utensils: Vec<String>,
+) -> PyResult<Vec<FindingTuple>> {
+    let kitchen: Option<Vec<ObjectSpec>> = kitchen.map(|k| k.into_iter().map(spec_of).collect());
+    let rates = rates
+        .map(MotionRates::from_pairs)
+        .transpose()
+        .map_err(errors::PyFoonErr)?;
+    let findings = run_detached(py, || {
+        let opts = foon_core::lint::LintOptions {
+            kitchen: kitchen.as_deref(),
+            rates: rates.as_ref(),
+            utensils: &utensils,
+        };
+        let mut all = Vec::new();
+        for p in &paths {
+            all.extend(foon_core::lint::lint_file(p, &opts)?);
+        }
+        Ok(all)
+    })?;
+    Ok(findings
+        .into_iter()
+        .map(|f| {
+            let p = f.at.path.as_ref().map(|p| p.display().to_string());
+            (
+                p,
+                f.at.line,
+                f.at.column,
+                f.severity.as_str(),
+                f.code,
+                f.message,
+            )
+        })
+        .collect())
+}
+
 /// Method names, in the order the comparison table lists them.
 #[pyfunction]
 fn methods() -> Vec<&'static str> {
@@ -510,7 +556,7 @@ fn methods() -> Vec<&'static str> {
 mod _foon {
     #[pymodule_export]
     use super::{
-        PyFoon, PyPlanner, load_objects, load_rates, load_utensils, methods, parse_objects,
+        PyFoon, PyPlanner, check, load_objects, load_rates, load_utensils, methods, parse_objects,
         parse_rates, parse_utensils,
     };
 

@@ -339,6 +339,11 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// Ranks from the kitchen plus the objects marked in `extra`.
+    pub fn ranks_with(&self, extra: &[bool]) -> Ranks {
+        forward::ranks(self, None, Some(extra))
+    }
+
     /// Ranks and derivability from the kitchen (computed once, on first use).
     pub fn ranks(&self) -> &Ranks {
         self.ranks.get_or_init(|| forward::ranks(self, None, None))

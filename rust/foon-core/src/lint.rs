@@ -1,0 +1,200 @@
+//! `foon check`: every problem of a FOON file at once, with file and line: parse errors,
+//! annotation faults, duplicate units, suspicious ingredient lists, and FOON-level findings
+//! (objects nobody produces, motions without rates, objects only reachable through cycles).
+
+use std::path::Path;
+
+use crate::companion::{MotionRates, ObjectSpec, parse_objects};
+use crate::error::{Error, InputKind, Location, Warning};
+use crate::index::Foon;
+use crate::parse::{ParseOptions, parse_foon_recovering};
+use crate::search::Context;
+
+/// How serious a finding is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Severity {
+    Error,
+    Warning,
+    Note,
+}
+
+impl Severity {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Error => "error",
+            Self::Warning => "warning",
+            Self::Note => "note",
+        }
+    }
+}
+
+/// One finding.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Finding {
+    pub at: Location,
+    pub severity: Severity,
+    pub code: &'static str,
+    pub message: String,
+}
+
+/// What the cross-checks use (all optional).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LintOptions<'a> {
+    pub kitchen: Option<&'a [ObjectSpec]>,
+    pub rates: Option<&'a MotionRates>,
+    pub utensils: &'a [String],
+}
+
+/// True when `data` looks like a list of objects (object lines, no motion and no `//`).
+fn is_object_list(data: &[u8]) -> bool {
+    let mut objects = false;
+    for line in data.split(|&b| b == b'\n') {
+        match line.first() {
+            Some(b'M') => return false,
+            Some(b'/') if line.starts_with(b"//") => return false,
+            Some(b'O') => objects = true,
+            _ => {}
+        }
+    }
+    objects
+}
+
+fn from_error(e: Error, path: Option<&Path>) -> Finding {
+    match e {
+        Error::Parse { at, reason, .. } => Finding {
+            at,
+            severity: Severity::Error,
+            code: "syntax",
+            message: reason,
+        },
+        other => Finding {
+            at: Location::new(path, 0, 0),
+            severity: Severity::Error,
+            code: "error",
+            message: other.to_string(),
+        },
+    }
+}
+
+fn from_warning(w: &Warning, severity: Severity) -> Finding {
+    Finding {
+        at: w.at.clone(),
+        severity,
+        code: w.kind.as_str(),
+        message: w.message.clone(),
+    }
+}
+
+/// Checks one input (FOON text, or a list of objects in FOON block form).
+pub fn lint(data: &[u8], path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Finding> {
+    if is_object_list(data) {
+        return match parse_objects(data, path, InputKind::Kitchen) {
+            Ok(_) => Vec::new(),
+            Err(e) => vec![from_error(e, path)],
+        };
+    }
+    let (foon, errors) = parse_foon_recovering(data, path, ParseOptions::default());
+    let mut out: Vec<Finding> = errors.into_iter().map(|e| from_error(e, path)).collect();
+    out.extend(
+        foon.warnings()
+            .iter()
+            .map(|w| from_warning(w, Severity::Warning)),
+    );
+    out.extend(foon.notes().iter().map(|w| from_warning(w, Severity::Note)));
+    for d in foon.duplicates() {
+        out.push(Finding {
+            at: Location::new(path, u64::from(d.line), 1),
+            severity: Severity::Warning,
+            code: "duplicate-fu",
+            message: format!(
+                "this functional unit repeats the one at line {}; it is dropped",
+                foon.fu_line(d.of)
+            ),
+        });
+    }
+    out.extend(graph_findings(&foon, path, opts));
+    out.sort_by(|a, b| {
+        (a.at.line, a.at.column, a.severity).cmp(&(b.at.line, b.at.column, b.severity))
+    });
+    out
+}
+
+fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Finding> {
+    let mut out = Vec::new();
+    let at_fu = |f: u32| Location::new(path, u64::from(foon.fu_line(f)), 1);
+    let describe = |o: u32| crate::write::object_line(foon, o);
+    let kitchen = opts.kitchen.unwrap_or(&[]);
+    let Ok(ctx) = Context::new(foon, kitchen, opts.utensils, None, None) else {
+        return out;
+    };
+    let n = foon.object_count() as u32;
+    if opts.kitchen.is_some() {
+        // Objects a unit needs that nobody produces and the kitchen lacks.
+        let mut first_use = vec![u32::MAX; n as usize];
+        for f in 0..foon.fu_count() as u32 {
+            for &x in ctx.needed(f) {
+                if first_use[x as usize] == u32::MAX {
+                    first_use[x as usize] = f;
+                }
+            }
+        }
+        for o in 0..n {
+            let f = first_use[o as usize];
+            if f != u32::MAX && foon.producers(o).is_empty() && !ctx.in_kitchen(o) {
+                out.push(Finding {
+                    at: at_fu(f),
+                    severity: Severity::Warning,
+                    code: "never-produced",
+                    message: format!(
+                        "'{}' is used but never produced and not in the kitchen",
+                        describe(o)
+                    ),
+                });
+            }
+        }
+    }
+    if let Some(rates) = opts.rates {
+        for &m in foon.motion_ids() {
+            let text = foon.text(m);
+            if rates.get(text).is_none() {
+                if let Some(f) = (0..foon.fu_count() as u32).find(|&f| foon.motion(f) == m) {
+                    out.push(Finding {
+                        at: at_fu(f),
+                        severity: Severity::Warning,
+                        code: "missing-rate",
+                        message: format!("motion '{text}' has no success rate in the motion table"),
+                    });
+                }
+            }
+        }
+    }
+    if opts.kitchen.is_none() {
+        return out;
+    }
+    // Objects that are produced, yet cannot be made from the kitchen even if every raw object
+    // (one no unit produces) were at hand: every way to them goes through a cycle. Without a
+    // kitchen this is not decidable (a starting item such as an empty bowl that some unit
+    // also produces would look circular), so it needs one.
+    let raw: Vec<bool> = (0..n).map(|o| foon.producers(o).is_empty()).collect();
+    let r = ctx.ranks_with(&raw);
+    for o in 0..n {
+        if !raw[o as usize] && !ctx.in_kitchen(o) && !r.is_derivable(o) {
+            out.push(Finding {
+                at: at_fu(foon.producers(o)[0]),
+                severity: Severity::Note,
+                code: "cycle-only",
+                message: format!(
+                    "'{}' can only be made through a cycle (no way to it from the kitchen avoids one)",
+                    describe(o)
+                ),
+            });
+        }
+    }
+    out
+}
+
+/// Reads and checks a file.
+pub fn lint_file(path: &Path, opts: &LintOptions<'_>) -> crate::Result<Vec<Finding>> {
+    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    Ok(lint(&data, Some(path), opts))
+}
