@@ -192,7 +192,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
     elif args.csv:
         import csv
 
-        w = csv.DictWriter(sys.stdout, fieldnames=list(rows[0]) if rows else ["goal"])
+        w = csv.DictWriter(sys.stdout, fieldnames=list(rows[0]) if rows else ["goal"],
+                           extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
         for srow in summary:
