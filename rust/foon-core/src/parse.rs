@@ -324,7 +324,7 @@ fn parse_impl(
 
     for line in Lines::new(data, path, InputKind::Foon) {
         let ended = std::cell::Cell::new(false);
-        let mut one_line = || -> Result<()> {
+        let one_line = || -> Result<()> {
             let line = line?;
             let kind = classify(&line, &mut fields).map_err(|(c, r)| err(line.number, c, r))?;
             match kind {

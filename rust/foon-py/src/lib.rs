@@ -7,6 +7,7 @@ mod errors;
 
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use foon_core::companion::{self, MotionRates, ObjectSpec};
 use foon_core::search::{self, Compat, Context, Count, Method, Plan, Prepared, Query};
@@ -371,26 +372,16 @@ impl PyPlanner {
         }
         let (foon, prep) = (&*self.foon, &*self.prep);
         let plans = run_detached(py, || {
-            let ctx = Context::with(foon, prep)?;
             if goals.len() <= 1 || threads == Some(1) {
+                // On this thread: look at Python's signals now and then, so Ctrl-C stops it.
+                let interrupted = || Python::attach(|py| py.check_signals().is_err());
+                let ctx = Context::with(foon, prep)?.with_cancel(&interrupted);
                 goals
                     .iter()
                     .map(|&g| ctx.plan(g, query))
                     .collect::<Result<Vec<_>, _>>()
             } else {
-                let run = || {
-                    search::plan_many(&ctx, &goals, query)
-                        .into_iter()
-                        .collect::<Result<Vec<_>, _>>()
-                };
-                match threads {
-                    Some(n) => rayon::ThreadPoolBuilder::new()
-                        .num_threads(n)
-                        .build()
-                        .map_err(|e| foon_core::Error::Invalid(e.to_string()))?
-                        .install(run),
-                    None => run(),
-                }
+                plan_batch(foon, prep, &goals, query, threads)
             }
         })?;
         plans.iter().map(|p| plan_dict(py, p)).collect()
@@ -426,6 +417,54 @@ impl PyPlanner {
         let ctx = Context::with(&self.foon, &self.prep).map_err(errors::PyFoonErr)?;
         Ok(ctx.kitchen_objects().to_vec())
     }
+}
+
+/// Plans a batch on a thread pool while this thread watches for Ctrl-C and tells the
+/// workers to stop.
+fn plan_batch(
+    foon: &foon_core::Foon,
+    prep: &Prepared,
+    goals: &[u32],
+    query: Query,
+    threads: Option<usize>,
+) -> foon_core::Result<Vec<Plan>> {
+    let stop = AtomicBool::new(false);
+    let stopped = || stop.load(Ordering::Relaxed);
+    let ctx = Context::with(foon, prep)?.with_cancel(&stopped);
+    let run = || {
+        search::plan_many(&ctx, goals, query)
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()
+    };
+    let pool = match threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| foon_core::Error::Invalid(e.to_string()))?,
+        ),
+        None => None,
+    };
+    std::thread::scope(|s| {
+        let watcher = std::thread::current();
+        let worker = s.spawn(move || {
+            let r = match &pool {
+                Some(p) => p.install(run),
+                None => run(),
+            };
+            watcher.unpark();
+            r
+        });
+        while !worker.is_finished() {
+            std::thread::park_timeout(std::time::Duration::from_millis(20));
+            if Python::attach(|py| py.check_signals().is_err()) {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+        worker.join().unwrap_or(Err(foon_core::Error::Invalid(
+            "a planning thread panicked".into(),
+        )))
+    })
 }
 
 fn check_object(foon: &foon_core::Foon, o: u32) -> PyResult<()> {

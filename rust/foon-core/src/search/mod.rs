@@ -11,7 +11,6 @@ mod tree;
 
 use std::str::FromStr;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use rustc_hash::FxHashSet;
@@ -260,7 +259,7 @@ enum Prep<'a> {
 pub struct Context<'a> {
     pub foon: &'a Foon,
     prep: Prep<'a>,
-    stop: Option<&'a AtomicBool>,
+    cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
 }
 
 impl std::ops::Deref for Context<'_> {
@@ -286,7 +285,7 @@ impl<'a> Context<'a> {
         Ok(Self {
             foon,
             prep: Prep::Owned(Box::new(p)),
-            stop: None,
+            cancel: None,
         })
     }
 
@@ -300,14 +299,15 @@ impl<'a> Context<'a> {
         Ok(Self {
             foon,
             prep: Prep::Borrowed(prep),
-            stop: None,
+            cancel: None,
         })
     }
 
-    /// Makes long searches check `stop` and return [`Error::Cancelled`] once it is set.
+    /// Makes long searches call `cancel` every few thousand steps and return
+    /// [`Error::Cancelled`] once it answers true.
     #[must_use]
-    pub fn with_stop(mut self, stop: &'a AtomicBool) -> Self {
-        self.stop = Some(stop);
+    pub fn with_cancel(mut self, cancel: &'a (dyn Fn() -> bool + Sync)) -> Self {
+        self.cancel = Some(cancel);
         self
     }
 
@@ -350,8 +350,8 @@ impl<'a> Context<'a> {
     }
 
     fn check_stop(&self) -> Result<()> {
-        match self.stop {
-            Some(s) if s.load(Ordering::Relaxed) => Err(Error::Cancelled),
+        match self.cancel {
+            Some(c) if c() => Err(Error::Cancelled),
             _ => Ok(()),
         }
     }

@@ -1,0 +1,50 @@
+"""Ctrl-C stops long planning promptly: exit code 130 from the CLI, no traceback, no
+partial output file."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+N = 200_000  # chain length: every plan below walks most of it
+
+
+def chain(path: Path) -> None:
+    with path.open("w") as fh:
+        for i in range(N):
+            fh.write(f"O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{i + 1}\n//\n")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("threads", ["1", "2"])
+def test_ctrl_c_stops_a_long_batch(tmp_path: Path, threads: str) -> None:
+    f = tmp_path / "chain.foon"
+    chain(f)
+    k = tmp_path / "kitchen.json"
+    k.write_text(json.dumps([{"label": "item", "states": ["s0"], "ingredients": [],
+                              "container": None}]))
+    goals = tmp_path / "goals.json"
+    goals.write_text(json.dumps([{"label": "item", "states": [f"s{N - i}"], "ingredients": [],
+                                  "container": None} for i in range(3000)]))
+    out = tmp_path / "out"
+    script = shutil.which("foon") or str(Path(sys.executable).parent / "foon")
+    p = subprocess.Popen([script, "plan", "--foon", str(f), "--kitchen", str(k), "--goals",
+                          str(goals), "--method", "ids", "--threads", threads, "--out", str(out)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(2.5)
+    assert p.poll() is None, "the batch finished before it could be interrupted"
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    stopped_after = time.monotonic() - sent
+    assert p.returncode == 130, err
+    assert "foon: interrupted" in err and "Traceback" not in err
+    assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
+    assert not out.exists() or list(out.iterdir()) == []
