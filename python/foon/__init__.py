@@ -170,7 +170,7 @@ class Kitchen:
         return len(self.items)
 
     def __contains__(self, o: object) -> bool:
-        return isinstance(o, Object | Mapping) and _as_object(o) in self.items  # type: ignore[arg-type]
+        return isinstance(o, Object | Mapping) and _as_object(o) in self.items
 
     def without(self, drop: Iterable[ObjectLike]) -> Kitchen:
         """A copy without the given items."""

@@ -1,7 +1,25 @@
 """Private native module (Rust, PyO3). Use the public API in ``foon`` instead."""
 
 import os
-from typing import Any
+from typing import Any, final
+
+__all__ = [
+    "Foon",
+    "Planner",
+    "check",
+    "load_objects",
+    "load_rates",
+    "load_utensils",
+    "methods",
+    "parse_objects",
+    "parse_rates",
+    "parse_utensils",
+    "FoonError",
+    "GoalNotFoundError",
+    "MissingRateError",
+    "ParseError",
+    "__version__",
+]
 
 __version__: str
 
@@ -13,6 +31,7 @@ class ParseError(FoonError): ...
 class GoalNotFoundError(FoonError): ...
 class MissingRateError(FoonError): ...
 
+@final
 class Foon:
     @staticmethod
     def load(path: _Path, *, strict: bool = False) -> Foon: ...
@@ -44,15 +63,16 @@ class Foon:
         self, tree: Foon, kitchen: list[_Obj], utensils: list[str], goal: _Obj
     ) -> dict[str, Any]: ...
 
+@final
 class Planner:
-    def __init__(
-        self,
+    def __new__(
+        cls,
         foon: Foon,
         kitchen: list[_Obj],
         utensils: list[str],
         rates: list[tuple[str, float]] | None = None,
         default_rate: float | None = None,
-    ) -> None: ...
+    ) -> Planner: ...
     def plan(
         self, goals: list[int], method: str, compat: str, count: str, threads: int | None = None
     ) -> list[dict[str, Any]]: ...

@@ -14,7 +14,7 @@ import tempfile
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import foon
 from foon import _foon
@@ -174,8 +174,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
             raise UsageError(f"unknown method '{m}' (choose from {', '.join(foon.METHODS)})")
     rows: list[dict[str, Any]] = []
     for m in methods:
-        compat = "course" if (m == "bfs" or args.compat == "course") and \
-            not m.startswith("optimal") else None
+        course = (m == "bfs" or args.compat == "course") and not m.startswith("optimal")
+        compat: Literal["course"] | None = "course" if course else None
         for t in f.plan_many(goals, kitchen, m, compat=compat, count=args.count,
                              motions=motions, utensils=utensils,
                              default_rate=args.default_rate, threads=args.threads):

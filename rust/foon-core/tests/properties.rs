@@ -2,6 +2,8 @@
 //! graph; every sound method returns a valid tree in execution order or fails exactly when
 //! the goal is not derivable, with an explanation; `ids` trees have the goal's rank as height.
 
+use std::fmt::Write as _;
+
 use foon_core::search::{Compat, Context, Count, Method, Query};
 use foon_core::{ObjectSpec, ParseOptions, parse_foon, write};
 use proptest::prelude::*;
@@ -34,15 +36,15 @@ fn obj() -> impl Strategy<Value = Obj> {
 }
 
 fn text_of(o: &Obj, out: &mut String) {
-    out.push_str(&format!("O\t{}\n", LABELS[o.label]));
+    let _ = writeln!(out, "O\t{}", LABELS[o.label]);
     for &s in &o.states {
-        out.push_str(&format!("S\t{}\n", STATES[s]));
+        let _ = writeln!(out, "S\t{}", STATES[s]);
     }
     if let Some(i) = o.ingredient {
-        out.push_str(&format!("S\tcontains\t{{{}}}\n", LABELS[i]));
+        let _ = writeln!(out, "S\tcontains\t{{{}}}", LABELS[i]);
     }
     if let Some(c) = o.container {
-        out.push_str(&format!("S\tin\t[{}]\n", UTENSILS[c]));
+        let _ = writeln!(out, "S\tin\t[{}]", UTENSILS[c]);
     }
 }
 
@@ -63,7 +65,7 @@ fn foon_text() -> impl Strategy<Value = String> {
             for o in &ins {
                 text_of(o, &mut t);
             }
-            t.push_str(&format!("M\t{}\n", ["pour", "mix", "heat"][m]));
+            let _ = writeln!(t, "M\t{}", ["pour", "mix", "heat"][m]);
             for o in &outs {
                 text_of(o, &mut t);
             }
