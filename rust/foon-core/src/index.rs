@@ -5,7 +5,10 @@
 
 use std::path::PathBuf;
 
-use rustc_hash::FxHashMap;
+use std::hash::Hasher;
+
+use hashbrown::HashTable;
+use rustc_hash::FxHasher;
 
 use crate::error::Warning;
 
@@ -83,40 +86,68 @@ impl Csr {
     }
 }
 
-/// String interner: every label, state, ingredient, container and motion is stored once.
+/// String interner: every label, state, ingredient, container and motion is stored once, in
+/// one text buffer with end offsets; the hash table holds only ids.
 #[derive(Debug, Clone, Default)]
 pub struct Interner {
-    strings: Vec<Box<str>>,
-    map: FxHashMap<Box<str>, u32>,
+    text: String,
+    ends: Vec<u64>,
+    table: HashTable<u32>,
+}
+
+fn hash_str(s: &str) -> u64 {
+    let mut h = FxHasher::default();
+    h.write(s.as_bytes());
+    h.finish()
+}
+
+fn slice<'a>(text: &'a str, ends: &[u64], id: u32) -> &'a str {
+    let i = id as usize;
+    let Some(&end) = ends.get(i) else { return "" };
+    let start = if i == 0 { 0 } else { ends[i - 1] };
+    text.get(start as usize..end as usize).unwrap_or("")
 }
 
 impl Interner {
     pub fn intern(&mut self, s: &str) -> u32 {
-        if let Some(&id) = self.map.get(s) {
+        let h = hash_str(s);
+        let (text, ends) = (&self.text, &self.ends);
+        if let Some(&id) = self.table.find(h, |&id| slice(text, ends, id) == s) {
             return id;
         }
-        let id = self.strings.len() as u32;
-        self.strings.push(s.into());
-        self.map.insert(s.into(), id);
+        let id = self.ends.len() as u32;
+        self.text.push_str(s);
+        self.ends.push(self.text.len() as u64);
+        let (text, ends) = (&self.text, &self.ends);
+        self.table
+            .insert_unique(h, id, |&id| hash_str(slice(text, ends, id)));
         id
     }
 
     pub fn get(&self, s: &str) -> Option<u32> {
-        self.map.get(s).copied()
+        let (text, ends) = (&self.text, &self.ends);
+        self.table
+            .find(hash_str(s), |&id| slice(text, ends, id) == s)
+            .copied()
     }
 
     /// The text of id `id` (empty for [`NONE`] or an unknown id).
     #[inline]
     pub fn text(&self, id: u32) -> &str {
-        self.strings.get(id as usize).map_or("", |s| s)
+        slice(&self.text, &self.ends, id)
     }
 
     pub fn len(&self) -> usize {
-        self.strings.len()
+        self.ends.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.strings.is_empty()
+        self.ends.is_empty()
+    }
+
+    /// Heap bytes used.
+    pub fn heap_bytes(&self) -> usize {
+        self.text.capacity() + self.ends.capacity() * 8 + self.table.capacity() * 5
     }
 }
 
@@ -144,7 +175,7 @@ pub struct DuplicateFu {
 #[derive(Debug, Clone, Default)]
 pub struct Foon {
     pub(crate) strings: Interner,
-    // Objects, by id: canonical identity (states and ingredients sorted by text).
+    // Objects, by id: canonical identity (states and ingredients sorted by string id).
     pub(crate) obj_label: Vec<u32>,
     pub(crate) obj_container: Vec<u32>,
     pub(crate) obj_states: Csr,
@@ -168,7 +199,8 @@ pub struct Foon {
     pub(crate) producers: Csr,
     pub(crate) consumers: Csr,
     pub(crate) motions: Vec<u32>,
-    pub(crate) identity: FxHashMap<Box<[u32]>, u32>,
+    /// Object ids, hashed by identity (see [`identity_hash`]).
+    pub(crate) identity: HashTable<u32>,
     // Load report.
     pub(crate) warnings: Vec<Warning>,
     /// Lint notes found while parsing (not warnings: strict mode ignores them).
@@ -289,12 +321,12 @@ impl Foon {
         self.obj_container[obj as usize]
     }
 
-    /// Canonical (sorted) states of `obj`.
+    /// Canonical states of `obj` (a multiset, sorted by string id).
     pub fn states(&self, obj: u32) -> &[u32] {
         self.obj_states.row(obj)
     }
 
-    /// Canonical (sorted) ingredients of `obj`.
+    /// Canonical ingredients of `obj` (a multiset, sorted by string id).
     #[inline]
     pub fn ingredients(&self, obj: u32) -> &[u32] {
         self.obj_ingredients.row(obj)
@@ -357,8 +389,41 @@ impl Foon {
         ingredients: &[u32],
         container: u32,
     ) -> Option<u32> {
-        let key = identity_key(label, states, ingredients, container);
-        self.identity.get(key.as_slice()).copied()
+        let mut st = states.to_vec();
+        st.sort_unstable();
+        let mut ing = ingredients.to_vec();
+        ing.sort_unstable();
+        self.find_sorted(label, &st, &ing, container)
+    }
+
+    /// As [`Foon::find_object_ids`], with states and ingredients already sorted by id.
+    pub(crate) fn find_sorted(
+        &self,
+        label: u32,
+        states: &[u32],
+        ingredients: &[u32],
+        container: u32,
+    ) -> Option<u32> {
+        let h = identity_hash(label, container, states, ingredients);
+        self.identity
+            .find(h, |&o| {
+                self.same_object(o, label, states, ingredients, container)
+            })
+            .copied()
+    }
+
+    fn same_object(
+        &self,
+        o: u32,
+        label: u32,
+        states: &[u32],
+        ingredients: &[u32],
+        container: u32,
+    ) -> bool {
+        self.obj_label[o as usize] == label
+            && self.obj_container[o as usize] == container
+            && self.obj_states.row(o) == states
+            && self.obj_ingredients.row(o) == ingredients
     }
 
     /// The object with this identity given as text, if there is one.
@@ -400,7 +465,9 @@ impl Foon {
             + self.obj_states.heap_bytes()
             + self.obj_ingredients.heap_bytes()
             + (self.obj_label.capacity() + self.obj_container.capacity()) * 4
-            + (self.fu_motion.capacity() + self.fu_line.capacity()) * 4;
+            + (self.fu_motion.capacity() + self.fu_line.capacity()) * 4
+            + self.strings.heap_bytes()
+            + self.identity.capacity() * 5;
         Stats {
             functional_units: self.fu_count(),
             objects: self.object_count(),
@@ -416,45 +483,46 @@ impl Foon {
     }
 }
 
-/// Canonical identity key: label, container, number of states, states sorted, ingredients
-/// sorted (string ids; any fixed order is canonical for equality). Written into `key`.
-pub(crate) fn identity_key_into(
-    key: &mut Vec<u32>,
+/// Hash of an object identity: label, container, states and ingredients (each sorted by id).
+pub(crate) fn identity_hash(
     label: u32,
+    container: u32,
     states: &[u32],
     ingredients: &[u32],
-    container: u32,
-) {
-    key.clear();
-    key.push(label);
-    key.push(container);
-    key.push(states.len() as u32);
-    key.extend_from_slice(states);
-    key[3..].sort_unstable();
-    let start = key.len();
-    key.extend_from_slice(ingredients);
-    key[start..].sort_unstable();
+) -> u64 {
+    let mut h = FxHasher::default();
+    h.write_u32(label);
+    h.write_u32(container);
+    h.write_usize(states.len());
+    for &x in states.iter().chain(ingredients) {
+        h.write_u32(x);
+    }
+    h.finish()
 }
 
-pub(crate) fn identity_key(
-    label: u32,
-    states: &[u32],
-    ingredients: &[u32],
-    container: u32,
-) -> Vec<u32> {
-    let mut key = Vec::with_capacity(3 + states.len() + ingredients.len());
-    identity_key_into(&mut key, label, states, ingredients, container);
-    key
+fn variant_hash(obj: u32, states: &[u32], ingredients: &[u32]) -> u64 {
+    identity_hash(obj, 0, states, ingredients)
+}
+
+fn slice_hash(key: &[u32]) -> u64 {
+    let mut h = FxHasher::default();
+    for &x in key {
+        h.write_u32(x);
+    }
+    h.finish()
 }
 
 /// Incremental construction of a [`Foon`]; used by the parser (and later by merging).
 #[derive(Debug, Default)]
 pub struct Builder {
     foon: Foon,
-    fu_keys: FxHashMap<Box<[u32]>, u32>,
-    variants: FxHashMap<Box<[u32]>, u32>,
+    /// FU ids hashed by (motion, sorted inputs, sorted outputs); `fu_hash` keeps each hash.
+    fu_keys: HashTable<u32>,
+    fu_hash: Vec<u64>,
+    /// Variant ids hashed by (object, states and ingredients in written order).
+    variants: HashTable<u32>,
+    scratch: Vec<u32>,
     motion_seen: Vec<bool>,
-    key: Vec<u32>,
     id_key: Vec<u32>,
     fu_key: Vec<u32>,
     ins: Vec<u32>,
@@ -493,40 +561,53 @@ impl Builder {
 
     /// Interns an object occurrence; returns `(object id, variant id)`.
     fn object(&mut self, raw: &RawObject<'_>) -> (u32, u32) {
+        // Canonical form: states then ingredients, each sorted by id, in one scratch buffer.
         let key = &mut self.id_key;
-        identity_key_into(key, raw.label, raw.states, raw.ingredients, raw.container);
+        key.clear();
+        key.extend_from_slice(raw.states);
+        key.sort_unstable();
+        let ns = key.len();
+        key.extend_from_slice(raw.ingredients);
+        key[ns..].sort_unstable();
+        let (states, ingredients) = key.split_at(ns);
         let f = &mut self.foon;
-        let obj = if let Some(&o) = f.identity.get(key.as_slice()) {
+        let obj = if let Some(o) = f.find_sorted(raw.label, states, ingredients, raw.container) {
             o
         } else {
             let o = f.obj_label.len() as u32;
             f.obj_label.push(raw.label);
             f.obj_container.push(raw.container);
-            let strings = &f.strings;
-            let mut s = raw.states.to_vec();
-            s.sort_by(|a, b| strings.text(*a).cmp(strings.text(*b)));
-            f.obj_states.push_row(&s);
-            let mut i = raw.ingredients.to_vec();
-            i.sort_by(|a, b| strings.text(*a).cmp(strings.text(*b)));
-            f.obj_ingredients.push_row(&i);
+            f.obj_states.push_row(states);
+            f.obj_ingredients.push_row(ingredients);
             f.obj_first_variant.push(NONE);
-            f.identity.insert(key.as_slice().into(), o);
+            let h = identity_hash(raw.label, raw.container, states, ingredients);
+            let (labels, conts, st, ing) = (
+                &f.obj_label,
+                &f.obj_container,
+                &f.obj_states,
+                &f.obj_ingredients,
+            );
+            f.identity.insert_unique(h, o, |&x| {
+                identity_hash(labels[x as usize], conts[x as usize], st.row(x), ing.row(x))
+            });
             o
         };
-        let vkey = &mut self.key;
-        vkey.clear();
-        vkey.push(obj);
-        vkey.push(raw.states.len() as u32);
-        vkey.extend_from_slice(raw.states);
-        vkey.extend_from_slice(raw.ingredients);
-        let var = if let Some(&v) = self.variants.get(vkey.as_slice()) {
+        let vh = variant_hash(obj, raw.states, raw.ingredients);
+        let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
+        let found = self.variants.find(vh, |&v| {
+            vo[v as usize] == obj && vs.row(v) == raw.states && vi.row(v) == raw.ingredients
+        });
+        let var = if let Some(&v) = found {
             v
         } else {
             let v = f.var_obj.len() as u32;
             f.var_obj.push(obj);
             f.var_states.push_row(raw.states);
             f.var_ingredients.push_row(raw.ingredients);
-            self.variants.insert(vkey.as_slice().into(), v);
+            let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
+            self.variants.insert_unique(vh, v, |&x| {
+                variant_hash(vo[x as usize], vs.row(x), vi.row(x))
+            });
             v
         };
         if f.obj_first_variant[obj as usize] == NONE {
@@ -576,13 +657,29 @@ impl Builder {
         let s = key.len();
         key.extend_from_slice(&out_ids);
         key[s..].sort_unstable();
-        let result = if let Some(&first) = self.fu_keys.get(key.as_slice()) {
+        let h = slice_hash(&key);
+        let f = &self.foon;
+        let scratch = &mut self.scratch;
+        let found = self.fu_keys.find(h, |&g| {
+            scratch.clear();
+            scratch.push(f.fu_motion[g as usize]);
+            scratch.push(f.fu_inputs.row(g).len() as u32);
+            scratch.extend_from_slice(f.fu_inputs.row(g));
+            scratch[2..].sort_unstable();
+            let s = scratch.len();
+            scratch.extend_from_slice(f.fu_outputs.row(g));
+            scratch[s..].sort_unstable();
+            *scratch == key
+        });
+        let result = if let Some(&first) = found {
             self.foon.duplicates.push(DuplicateFu { line, of: first });
             Err(first)
         } else {
             let f = &mut self.foon;
             let idx = f.fu_motion.len() as u32;
-            self.fu_keys.insert(key.as_slice().into(), idx);
+            self.fu_hash.push(h);
+            let hashes = &self.fu_hash;
+            self.fu_keys.insert_unique(h, idx, |&x| hashes[x as usize]);
             f.fu_motion.push(motion);
             f.fu_motion_meta.push(motion_meta);
             f.fu_line.push(line);
