@@ -102,14 +102,7 @@ def _summary(t: foon.TaskTree) -> str:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    ex = foon.example() if args.foon is None else None
-    f = ex.foon if ex is not None else _load_foon(args.foon, args.strict)
-    kitchen: foon.Kitchen = (foon.Kitchen.load(args.kitchen) if args.kitchen
-                             else ex.kitchen if ex else foon.Kitchen())
-    motions = (foon.MotionRates.load(args.motions) if args.motions
-               else ex.motions if ex else None)
-    utensils = (foon.load_utensils(args.utensils) if args.utensils
-                else ex.utensils if ex else [])
+    f, kitchen, motions, utensils, ex = _inputs(args)
     goals = _read_goals(args, ex)
     trees = f.plan_many(goals, kitchen, args.method, compat=args.compat, count=args.count,
                         motions=motions, utensils=utensils, default_rate=args.default_rate,
@@ -362,34 +355,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"foon {foon.__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
 
-    pl = sub.add_parser(
-        "plan",
-        help="retrieve task trees for goals",
-        description="Retrieve task trees. With no --foon, plans the embedded example "
-        "(its kitchen, motion rates, utensils and default goal).",
-    )
-    pl.add_argument("--foon", metavar="FILE", help="FOON file (any dialect)")
-    pl.add_argument("--kitchen", metavar="FILE", help="kitchen: JSON list or FOON object blocks")
-    pl.add_argument("--motions", metavar="FILE", help="motion success rates (motion<TAB>rate)")
-    pl.add_argument("--utensils", metavar="FILE", help="utensil list, for the container rule")
-    g = pl.add_mutually_exclusive_group()
-    g.add_argument("--goals", metavar="FILE", help="goal file: JSON list/object or object blocks")
-    g.add_argument("--goal", metavar="JSON", help='one goal as JSON, e.g. \'{"label": "ice", ...}\'')
-    g.add_argument("--label", metavar="TEXT", help="a goal label that only one object has")
-    pl.add_argument("--method", default="ids", choices=foon.METHODS, help="default: ids")
-    pl.add_argument("--compat", choices=["course"], default=None,
-                    help="reproduce the course code's trees byte for byte")
-    pl.add_argument("--count", choices=["nodes", "ingredients"], default="nodes",
-                    help="greedy-inputs: count input nodes (default) or ingredient labels")
-    pl.add_argument("--default-rate", type=float, metavar="R",
-                    help="success rate for motions missing from the table")
-    pl.add_argument("--format", choices=["text", "json"], default="text")
-    pl.add_argument("--out", metavar="DIR", help="write one file per goal into DIR")
-    pl.add_argument("--threads", type=int, metavar="N", help="threads for many goals (default: all cores)")
-    pl.add_argument("--strict", action="store_true", help="turn load warnings into errors")
-    pl.add_argument("-q", "--quiet", action="store_true", help="no summary lines on stderr")
-    pl.set_defaults(func=cmd_plan)
-
     def common(sp: argparse.ArgumentParser, motions: bool = True) -> None:
         sp.add_argument("--foon", metavar="FILE", help="FOON file (default: the example)")
         sp.add_argument("--kitchen", metavar="FILE", help="kitchen: JSON list or object blocks")
@@ -401,6 +366,26 @@ def build_parser() -> argparse.ArgumentParser:
         g.add_argument("--goal", metavar="JSON", help="one goal as JSON")
         g.add_argument("--label", metavar="TEXT", help="a goal label that one object has")
         sp.add_argument("--strict", action="store_true", help="turn load warnings into errors")
+
+    pl = sub.add_parser(
+        "plan",
+        help="retrieve task trees for goals",
+        description="Retrieve task trees. With no --foon, plans the embedded example "
+        "(its kitchen, motion rates, utensils and default goal).",
+    )
+    common(pl)
+    pl.add_argument("--method", default="ids", choices=foon.METHODS, help="default: ids")
+    pl.add_argument("--compat", choices=["course"], default=None,
+                    help="reproduce the course code's trees byte for byte")
+    pl.add_argument("--count", choices=["nodes", "ingredients"], default="nodes",
+                    help="greedy-inputs: count input nodes (default) or ingredient labels")
+    pl.add_argument("--default-rate", type=float, metavar="R",
+                    help="success rate for motions missing from the table")
+    pl.add_argument("--format", choices=["text", "json"], default="text")
+    pl.add_argument("--out", metavar="DIR", help="write one file per goal into DIR")
+    pl.add_argument("--threads", type=int, metavar="N", help="threads for many goals (default: all cores)")
+    pl.add_argument("-q", "--quiet", action="store_true", help="no summary lines on stderr")
+    pl.set_defaults(func=cmd_plan)
 
     cp = sub.add_parser(
         "compare",

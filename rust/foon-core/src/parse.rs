@@ -190,6 +190,15 @@ pub(crate) fn classify<'a>(
     Ok(kind)
 }
 
+/// What the second field of a line of this kind is, for messages.
+fn field_name(kind: LineKind) -> &'static str {
+    match kind {
+        LineKind::Object => "object label",
+        LineKind::State => "state",
+        _ => "motion",
+    }
+}
+
 /// Scratch storage for the objects of the FU being read (flat, reused across FUs).
 #[derive(Default)]
 struct Block {
@@ -342,11 +351,7 @@ fn parse_impl(
             }
             block.last_line = line.number;
             let Some(&(f1_off, f1)) = fields.get(1) else {
-                let what = match kind {
-                    LineKind::Object => "object label",
-                    LineKind::State => "state",
-                    _ => "motion",
-                };
+                let what = field_name(kind);
                 return Err(err(
                     line.number,
                     line.column_of(line.text.len()),
@@ -355,11 +360,7 @@ fn parse_impl(
             };
             let value = normalise(f1);
             if value.is_empty() && !(kind == LineKind::State && fields.len() > 2) {
-                let what = match kind {
-                    LineKind::Object => "object label",
-                    LineKind::State => "state",
-                    _ => "motion",
-                };
+                let what = field_name(kind);
                 return Err(err(
                     line.number,
                     line.column_of(f1_off),

@@ -46,36 +46,16 @@ pub fn verify_tree(
 ) -> Result<TreeReport> {
     let ctx = Context::new(tree, kitchen, utensils, None, None)?;
     let n = tree.fu_count() as u32;
-    let mut avail: Vec<bool> = (0..tree.object_count() as u32)
-        .map(|o| ctx.in_kitchen(o))
-        .collect();
-    let mut first_blocked = None;
-    for f in 0..n {
-        let missing: Vec<u32> = ctx
-            .needed(f)
+    let units: Vec<u32> = (0..n).collect();
+    let (blocked, avail) = ctx.run_in_order(&units);
+    let first_blocked = blocked.map(|(position, missing)| Blocked {
+        position,
+        line: tree.fu_line(position as u32),
+        missing: missing
             .iter()
-            .copied()
-            .filter(|&x| !avail[x as usize])
-            .collect();
-        if !missing.is_empty() {
-            if first_blocked.is_none() {
-                first_blocked = Some(Blocked {
-                    position: f as usize,
-                    line: tree.fu_line(f),
-                    missing: missing
-                        .iter()
-                        .map(|&o| ObjectSpec::of_object(tree, o))
-                        .collect(),
-                });
-            }
-            continue;
-        }
-        for &y in tree.outputs(f) {
-            if !tree.is_bare(y) {
-                avail[y as usize] = true;
-            }
-        }
-    }
+            .map(|&o| ObjectSpec::of_object(tree, o))
+            .collect(),
+    });
     let goal_id = goal.find_in(tree);
     let in_kitchen = kitchen.iter().any(|k| same_identity(k, goal));
     let goal_made = in_kitchen || goal_id.is_some_and(|g| avail[g as usize]);

@@ -172,14 +172,8 @@ impl PyFoon {
             .warnings()
             .iter()
             .map(|w| {
-                let p = w.at.path.as_ref().map(|p| p.display().to_string());
-                (
-                    p,
-                    w.at.line,
-                    w.at.column,
-                    w.kind.as_str(),
-                    w.message.clone(),
-                )
+                let (p, line, col) = location(&w.at);
+                (p, line, col, w.kind.as_str(), w.message.clone())
             })
             .collect()
     }
@@ -372,7 +366,11 @@ impl PyPlanner {
         }
         let (foon, prep) = (&*self.foon, &*self.prep);
         let plans = run_detached(py, || {
-            if goals.len() <= 1 || threads == Some(1) {
+            // Threads cost more to start than a few small plans take: spread only batches
+            // that are large in goals or in graph.
+            let worth_threads =
+                goals.len() >= 8 || (goals.len() >= 2 && foon.fu_count() >= 100_000);
+            if threads == Some(1) || !worth_threads {
                 // On this thread: look at Python's signals now and then, so Ctrl-C stops it.
                 let interrupted = || Python::attach(|py| py.check_signals().is_err());
                 let ctx = Context::with(foon, prep)?.with_cancel(&interrupted);
@@ -398,7 +396,11 @@ impl PyPlanner {
         run_detached(py, || {
             let ctx = Context::with(foon, prep)?;
             let m = ctx.metrics(&units, goal);
-            Ok((m.height.is_some(), m.height, ctx.first_unavailable(&units)))
+            Ok((
+                ctx.is_valid(&units, goal),
+                m.height,
+                ctx.first_unavailable(&units),
+            ))
         })
     }
 
@@ -572,17 +574,19 @@ fn check(
     Ok(findings
         .into_iter()
         .map(|f| {
-            let p = f.at.path.as_ref().map(|p| p.display().to_string());
-            (
-                p,
-                f.at.line,
-                f.at.column,
-                f.severity.as_str(),
-                f.code,
-                f.message,
-            )
+            let (p, line, col) = location(&f.at);
+            (p, line, col, f.severity.as_str(), f.code, f.message)
         })
         .collect())
+}
+
+/// A location as Python sees it: (path, line, column).
+fn location(at: &foon_core::Location) -> (Option<String>, u64, u32) {
+    (
+        at.path.as_ref().map(|p| p.display().to_string()),
+        at.line,
+        at.column,
+    )
 }
 
 /// Method names, in the order the comparison table lists them.

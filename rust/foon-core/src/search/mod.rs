@@ -427,11 +427,12 @@ impl<'a> Context<'a> {
             (Compat::Sound, method) => {
                 if self.in_kitchen(goal) {
                     let mut p = self.empty_plan(goal, query);
-                    if matches!(method, Method::OptimalSuccess | Method::OptimalUnits) {
-                        p.cost = Some(0.0);
-                    } else if method == Method::OptimalInputs {
-                        p.cost = Some(1.0);
-                    }
+                    // Nothing to do: success 1, no unit, the goal itself as the one input.
+                    p.cost = match method {
+                        Method::OptimalSuccess | Method::OptimalInputs => Some(1.0),
+                        Method::OptimalUnits => Some(0.0),
+                        _ => None,
+                    };
                     p
                 } else if self.ranks().rank(goal).is_none() {
                     let mut p = self.empty_plan(goal, query);
@@ -515,15 +516,34 @@ impl<'a> Context<'a> {
         }
     }
 
-    /// Whether the FUs `units` (in any order) make `goal` from the kitchen.
+    /// Whether the FUs `units` can be ordered so that every one of them runs (its needed
+    /// inputs in the kitchen or made by an earlier one) and the goal is in the kitchen or made.
     pub fn is_valid(&self, units: &[u32], goal: u32) -> bool {
-        self.metrics(units, goal).height.is_some()
+        let mut mask = vec![false; self.foon.fu_count()];
+        for &f in units {
+            if let Some(m) = mask.get_mut(f as usize) {
+                *m = true;
+            }
+        }
+        let r = forward::ranks(self, Some(&mask), None);
+        let all_run = units
+            .iter()
+            .all(|&f| self.needed(f).iter().all(|&x| r.is_derivable(x)));
+        all_run && (self.in_kitchen(goal) || r.is_derivable(goal))
     }
 
     /// Checks `units` in the given order: returns the position of the first FU with a needed
     /// input that is neither in the kitchen nor made by an earlier FU, with those inputs.
     pub fn first_unavailable(&self, units: &[u32]) -> Option<(usize, Vec<u32>)> {
+        self.run_in_order(units).0
+    }
+
+    /// Runs `units` in the given order from the kitchen: a unit runs when its needed inputs
+    /// are available, and then makes its (produced) outputs available. Returns the first unit
+    /// that could not run (position, missing inputs) and what is available at the end.
+    pub fn run_in_order(&self, units: &[u32]) -> (Option<(usize, Vec<u32>)>, Vec<bool>) {
         let mut avail = self.in_kitchen.clone();
+        let mut first = None;
         for (i, &f) in units.iter().enumerate() {
             let missing: Vec<u32> = self
                 .needed(f)
@@ -532,7 +552,8 @@ impl<'a> Context<'a> {
                 .filter(|&x| !avail[x as usize])
                 .collect();
             if !missing.is_empty() {
-                return Some((i, missing));
+                first.get_or_insert((i, missing));
+                continue;
             }
             for &y in self.foon.outputs(f) {
                 if !self.foon.is_bare(y) {
@@ -540,7 +561,7 @@ impl<'a> Context<'a> {
                 }
             }
         }
-        None
+        (first, avail)
     }
 }
 

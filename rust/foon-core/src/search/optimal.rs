@@ -63,8 +63,12 @@ pub(super) fn knuth(
     let mut heap = BinaryHeap::new();
     let mut expanded = 0u64;
     let mut peak = 0usize;
+    // Leaves (the kitchen, plus `extra`) have a fixed cost: no unit may lower it.
+    let leaf_of: Vec<bool> = (0..n as u32)
+        .map(|o| ctx.in_kitchen(o) || extra.is_some_and(|e| e[o as usize]))
+        .collect();
     for o in 0..n as u32 {
-        if ctx.in_kitchen(o) || extra.is_some_and(|e| e[o as usize]) {
+        if leaf_of[o as usize] {
             cost[o as usize] = leaf;
             heap.push(Entry { cost: leaf, obj: o });
         }
@@ -81,7 +85,7 @@ pub(super) fn knuth(
         }
         for &y in foon.outputs(f) {
             let yi = y as usize;
-            if done[yi] || foon.is_bare(y) {
+            if done[yi] || leaf_of[yi] || foon.is_bare(y) {
                 continue;
             }
             // Equal costs are compared exactly on purpose: the tie goes to the lower index.
