@@ -85,21 +85,20 @@ fn json_error(kind: InputKind, path: Option<&Path>, text: &str, e: &serde_json::
     };
     let line = e.line().max(1);
     // serde_json counts the column in bytes; ours is in characters.
-    let column = text
-        .split('\n')
-        .nth(line - 1)
-        .map_or(e.column(), |l| {
-            let mut b = e.column().saturating_sub(1).min(l.len());
-            while !l.is_char_boundary(b) {
-                b -= 1;
-            }
-            l[..b].chars().count() + 1
-        });
+    let column = text.split('\n').nth(line - 1).map_or(e.column(), |l| {
+        let mut b = e.column().saturating_sub(1).min(l.len());
+        while !l.is_char_boundary(b) {
+            b -= 1;
+        }
+        l[..b].chars().count() + 1
+    });
     Error::parse(kind, path, line as u64, column.max(1) as u32, reason)
 }
 
 /// Rejects an empty label where it is read (so the error has the JSON parser's location).
-fn non_empty_label<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<String, D::Error> {
+fn non_empty_label<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<String, D::Error> {
     let s = String::deserialize(d)?;
     if s.is_empty() {
         return Err(serde::de::Error::custom("an object has an empty label"));
