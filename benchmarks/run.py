@@ -100,12 +100,61 @@ def bench_plan(data: Path, repeat: int) -> None:
         print(f"| {name} | {n / one:,.0f} | {n / allc:,.0f} | {pys} | {ratio} |")
 
 
+def chain_text(n: int) -> str:
+    return "".join(f"O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{i + 1}\n//\n"
+                   for i in range(n))
+
+
+SCALE_METHODS = (("bfs", "course"), ("ids", None), ("greedy-inputs", None), ("optimal-units", None))
+
+
+def bench_scale(n: int, small: int, repeat: int) -> None:
+    """A generated chain of n units (each needs the previous one's output): parse it, then
+    plan its last object, which needs all n units. The pure-Python reference is timed on the
+    same text for parsing, and on a chain of `small` units for planning (its course loop, like
+    the course code, tests list membership and is quadratic)."""
+    text = chain_text(n)
+    data = text.encode()
+    parse = timeit(lambda: foon.Foon.from_text(data), max(1, repeat // 2))
+    ref_parse = timeit(lambda: ref.parse(text), 1)
+    f = foon.Foon.from_text(data)
+    p = f.planner([foon.Object("item", ("s0",))], default_rate=0.5)
+    goal = f.goal_id(foon.Object("item", (f"s{n}",)))
+    print(f"\n### A chain of {n:,} units ({len(data) / 1e6:.1f} MB), planned to its end\n")
+    print("| step | foon | pure-Python reference | foon is faster by |")
+    print("|---|---:|---:|---:|")
+    print(f"| parse | {fmt(parse)} | {fmt(ref_parse)} | {ref_parse / parse:,.0f}x |")
+    for method, compat in SCALE_METHODS:
+        t = timeit(lambda: p.plan(goal, method, compat=compat), max(1, repeat // 2))  # type: ignore[arg-type]
+        assert len(p.plan(goal, method, compat=compat).units) == n  # type: ignore[arg-type]
+        print(f"| plan, {method}{' (course)' if compat else ''} | {fmt(t)} | | |")
+    stext = chain_text(small)
+    sf = foon.Foon.from_text(stext)
+    sp = sf.planner([foon.Object("item", ("s0",))], default_rate=0.5)
+    sgoal = sf.goal_id(foon.Object("item", (f"s{small}",)))
+    rf = ref.parse(stext)
+    kitchen = [("item", ("s0",), (), None)]
+    rgoal = ("item", (f"s{small}",), (), None)
+    print(f"\nPlanning a chain of {small:,} units, side by side:\n")
+    print("| method | foon | pure-Python reference | foon is faster by |")
+    print("|---|---:|---:|---:|")
+    for method, compat in SCALE_METHODS:
+        if method.startswith("optimal"):
+            continue
+        t = timeit(lambda: sp.plan(sgoal, method, compat=compat), repeat)  # type: ignore[arg-type]
+        r = timeit(lambda: ref.plan(rf, rgoal, kitchen, set(), None, method, compat), 1)
+        print(f"| {method}{' (course)' if compat else ''} | {fmt(t)} | {fmt(r)} | {r / t:,.0f}x |")
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--data", type=Path,
                    default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
-    p.add_argument("--only", choices=["parse", "plan"])
+    p.add_argument("--only", choices=["parse", "plan", "scale"])
+    p.add_argument("--chain", type=int, default=300_000, help="units in the scaling chain")
+    p.add_argument("--small-chain", type=int, default=2_000,
+                   help="units in the chain planned side by side with the reference")
     a = p.parse_args()
     print(f"foon {foon.__version__}, Python {platform.python_version()}, "
           f"{platform.machine()}, {os.cpu_count()} cores")
@@ -113,6 +162,8 @@ def main() -> None:
         bench_parse(a.data, a.repeat)
     if a.only in (None, "plan"):
         bench_plan(a.data, a.repeat)
+    if a.only in (None, "scale"):
+        bench_scale(a.chain, a.small_chain, a.repeat)
 
 
 if __name__ == "__main__":
