@@ -373,7 +373,7 @@ pub fn parse_utensils(data: &[u8], path: Option<&Path>) -> Result<Vec<String>> {
                 path,
                 line.number,
                 line.column_of(i),
-                "a utensil name has no TAB",
+                "a utensil name must not contain a TAB",
             ));
         }
         out.push(t.to_owned());

@@ -1,0 +1,120 @@
+//! Regression inputs: each feeds one input that once went wrong (a crash or a wrong location,
+//! found by fuzzing or by reading the parsers) to the same function, and checks that it now
+//! returns `Ok` or a located `Err` without panicking. Fuzz crash inputs are kept as byte
+//! strings here (the fuzz corpus and artifacts are not committed).
+
+use foon_core::companion::{parse_objects, parse_rates, parse_utensils};
+use foon_core::{Error, InputKind, ParseOptions, parse_foon};
+
+/// The (line, column) of a parse error.
+fn at<T: std::fmt::Debug>(r: Result<T, Error>) -> (u64, u32) {
+    match r {
+        Err(Error::Parse { at, .. }) => (at.line, at.column),
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+fn reason<T: std::fmt::Debug>(r: Result<T, Error>) -> String {
+    match r {
+        Err(Error::Parse { reason, .. }) => reason,
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+// --- wrong locations found by reading the parsers ------------------------------------------
+
+/// The rate column was computed from the trimmed motion name, so blanks around the name
+/// moved it left of the rate (`  chop  <TAB>x` gave column 6, the rate is at column 10).
+#[test]
+fn rate_column_counts_blanks_around_the_name() {
+    assert_eq!(at(parse_rates(b"  chop  \t-0.1\n", None)), (1, 10));
+    assert_eq!(at(parse_rates(b"chop\t0.5\n \tx\n", None)), (2, 1)); // empty name
+    assert_eq!(at(parse_rates(b"chop\t0.5\n slice\tfast\n", None)), (2, 8));
+}
+
+/// JSON kitchens were read through an untagged enum, so every shape error (a list of
+/// strings, a missing label, an unknown field, a wrong type) came out at 1:1 with a generic
+/// message instead of the JSON parser's location and reason.
+#[test]
+fn json_shape_errors_have_the_parsers_location() {
+    let k = InputKind::Kitchen;
+    let r = parse_objects(b"[\n  \"onion\",\n  \"knife\"\n]\n", None, k);
+    assert_eq!(
+        at(parse_objects(b"[\n  \"onion\",\n  \"knife\"\n]\n", None, k)),
+        (2, 9)
+    );
+    assert!(reason(r).contains("expected struct ObjectSpec"));
+    let missing = b"[\n  {\"label\": \"a\"},\n  {\"states\": [\"x\"]}\n]";
+    assert_eq!(at(parse_objects(missing, None, k)), (3, 19));
+    assert!(reason(parse_objects(missing, None, k)).contains("missing field `label`"));
+    let goal = b"{\n  \"states\": [\"cooked\"]\n}";
+    assert_eq!(at(parse_objects(goal, None, InputKind::Goal)), (3, 1));
+    // A single object is still a goal, and still not a kitchen.
+    assert_eq!(
+        parse_objects(b"{\"label\": \"a\"}", None, InputKind::Goal)
+            .unwrap()
+            .len(),
+        1
+    );
+    assert_eq!(at(parse_objects(b"{\"label\": \"a\"}", None, k)), (1, 1));
+}
+
+/// An empty label in a JSON list was reported at 1:1 whatever its place.
+#[test]
+fn empty_json_label_is_located() {
+    let data = b"[\n  {\"label\": \"onion\"},\n  {\"label\": \"\"}\n]\n";
+    assert_eq!(at(parse_objects(data, None, InputKind::Kitchen)), (3, 15));
+}
+
+/// Invalid UTF-8 in a JSON kitchen was reported at 1:1; it is at the first bad byte.
+#[test]
+fn invalid_utf8_in_json_is_located() {
+    let data = b"[\n  {\"label\": \"onion\"},\n  {\"label\": \"cr\xe8me\"}\n]\n";
+    assert_eq!(at(parse_objects(data, None, InputKind::Kitchen)), (3, 16));
+}
+
+/// `serde_json` counts columns in bytes; ours are characters (`è` is two bytes).
+#[test]
+fn json_columns_are_characters() {
+    let data = "[\n  {\"label\": \"crème\", \"colour\": \"white\"}\n]\n";
+    assert_eq!(
+        at(parse_objects(data.as_bytes(), None, InputKind::Kitchen)),
+        (2, 29)
+    );
+}
+
+// --- never a panic ---------------------------------------------------------------------------
+
+/// Inputs around the edges of the line and field handling: each returns Ok or Err.
+#[test]
+fn edge_inputs_do_not_panic() {
+    let inputs: &[&[u8]] = &[
+        b"",
+        b"\n",
+        b"\xEF\xBB\xBF",
+        b"\xEF\xBB",
+        b"\r",
+        b"\t",
+        b"O",
+        b"O\t",
+        b"O\t\t\t",
+        b"M\tm\n//",
+        b"//\n//\n",
+        b"O\ta\nS\t\t{}\nM\tm\n//\n",
+        b"O\ta\nS\t\t[]\nM\tm\nO\ta\nS\tx\n//\n",
+        b"O\t\xc3\xa9\nS\tx\t{\xc3\xa9\nM\tm\n",
+        b"\xff",
+        b"O\ta\x00",
+        b"[",
+        b"{",
+        b"[{\"label\": \"a\", \"states\": [\"\xff\"]}]",
+    ];
+    for data in inputs {
+        let _ = parse_foon(data, None, ParseOptions::default());
+        let _ = parse_foon(data, None, ParseOptions { strict: true });
+        let _ = parse_objects(data, None, InputKind::Kitchen);
+        let _ = parse_objects(data, None, InputKind::Goal);
+        let _ = parse_rates(data, None);
+        let _ = parse_utensils(data, None);
+    }
+}
