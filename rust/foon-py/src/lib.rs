@@ -6,12 +6,13 @@
 mod errors;
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 
 use foon_core::companion::{self, MotionRates, ObjectSpec};
 use foon_core::search::{self, Compat, Context, Count, Method, Plan, Prepared, Query};
 use foon_core::{InputKind, ParseOptions, verify, write};
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
@@ -66,10 +67,10 @@ struct PyFoon {
 
 fn plan_dict<'py>(py: Python<'py>, p: &Plan) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("goal", p.goal)?;
-    d.set_item("method", p.query.method.as_str())?;
+    d.set_item(intern!(py, "goal"), p.goal)?;
+    d.set_item(intern!(py, "method"), p.query.method.as_str())?;
     d.set_item(
-        "compat",
+        intern!(py, "compat"),
         if p.query.compat == Compat::Course {
             "course"
         } else {
@@ -77,31 +78,31 @@ fn plan_dict<'py>(py: Python<'py>, p: &Plan) -> PyResult<Bound<'py, PyDict>> {
         },
     )?;
     d.set_item(
-        "count",
+        intern!(py, "count"),
         if p.query.count == Count::Ingredients {
             "ingredients"
         } else {
             "nodes"
         },
     )?;
-    d.set_item("solved", p.solved)?;
-    d.set_item("units", &p.units)?;
-    d.set_item("unresolved", &p.unresolved)?;
+    d.set_item(intern!(py, "solved"), p.solved)?;
+    d.set_item(intern!(py, "units"), &p.units)?;
+    d.set_item(intern!(py, "unresolved"), &p.unresolved)?;
     let (missing, cycle, cycle_units) = p
         .explanation
         .as_ref()
         .map(|e| (e.missing.clone(), e.cycle.clone(), e.cycle_units.clone()))
         .unwrap_or_default();
-    d.set_item("missing", missing)?;
-    d.set_item("cycle", cycle)?;
-    d.set_item("cycle_units", cycle_units)?;
-    d.set_item("height", p.height)?;
-    d.set_item("success", p.success)?;
-    d.set_item("cost", p.cost)?;
-    d.set_item("leaf_inputs", p.leaf_inputs)?;
-    d.set_item("expanded", p.expanded)?;
-    d.set_item("peak_frontier", p.peak_frontier)?;
-    d.set_item("seconds", p.seconds)?;
+    d.set_item(intern!(py, "missing"), missing)?;
+    d.set_item(intern!(py, "cycle"), cycle)?;
+    d.set_item(intern!(py, "cycle_units"), cycle_units)?;
+    d.set_item(intern!(py, "height"), p.height)?;
+    d.set_item(intern!(py, "success"), p.success)?;
+    d.set_item(intern!(py, "cost"), p.cost)?;
+    d.set_item(intern!(py, "leaf_inputs"), p.leaf_inputs)?;
+    d.set_item(intern!(py, "expanded"), p.expanded)?;
+    d.set_item(intern!(py, "peak_frontier"), p.peak_frontier)?;
+    d.set_item(intern!(py, "seconds"), p.seconds)?;
     Ok(d)
 }
 
@@ -421,6 +422,29 @@ impl PyPlanner {
     }
 }
 
+/// Thread pools by size, built once: building one costs more than planning a small batch.
+/// `None` is rayon's global pool (one thread per core).
+fn pool_of(threads: Option<usize>) -> foon_core::Result<Option<Arc<rayon::ThreadPool>>> {
+    static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
+    let Some(n) = threads.filter(|&n| n != rayon::current_num_threads()) else {
+        return Ok(None);
+    };
+    let mut pools = POOLS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, p)) = pools.iter().find(|(k, _)| *k == n) {
+        return Ok(Some(Arc::clone(p)));
+    }
+    let p = Arc::new(
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| foon_core::Error::Invalid(e.to_string()))?,
+    );
+    pools.push((n, Arc::clone(&p)));
+    Ok(Some(p))
+}
+
 /// Plans a batch on a thread pool while this thread watches for Ctrl-C and tells the
 /// workers to stop.
 fn plan_batch(
@@ -433,40 +457,45 @@ fn plan_batch(
     let stop = AtomicBool::new(false);
     let stopped = || stop.load(Ordering::Relaxed);
     let ctx = Context::with(foon, prep)?.with_cancel(&stopped);
-    let run = || {
-        search::plan_many(&ctx, goals, query)
-            .into_iter()
-            .collect::<Result<Vec<_>, _>>()
+    let pool = pool_of(threads)?;
+    let done = AtomicBool::new(false);
+    let mut result = None;
+    // The batch runs on the pool; this thread only watches for Ctrl-C.
+    let mut work = || {
+        result = Some(
+            search::plan_many(&ctx, goals, query)
+                .into_iter()
+                .collect::<Result<Vec<_>, _>>(),
+        );
+        done.store(true, Ordering::Release);
     };
-    let pool = match threads {
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| foon_core::Error::Invalid(e.to_string()))?,
-        ),
-        None => None,
-    };
-    std::thread::scope(|s| {
-        let watcher = std::thread::current();
-        let worker = s.spawn(move || {
-            let r = match &pool {
-                Some(p) => p.install(run),
-                None => run(),
-            };
-            watcher.unpark();
-            r
-        });
-        while !worker.is_finished() {
+    let watcher = std::thread::current();
+    let watch = || {
+        while !done.load(Ordering::Acquire) {
             std::thread::park_timeout(std::time::Duration::from_millis(20));
             if Python::attach(|py| py.check_signals().is_err()) {
                 stop.store(true, Ordering::Relaxed);
             }
         }
-        worker.join().unwrap_or(Err(foon_core::Error::Invalid(
-            "a planning thread panicked".into(),
-        )))
-    })
+    };
+    macro_rules! watched {
+        ($($scope:tt)+) => {
+            $($scope)+(|s| {
+                s.spawn(|_| {
+                    work();
+                    watcher.unpark();
+                });
+                watch();
+            })
+        };
+    }
+    match &pool {
+        Some(p) => watched!(p.in_place_scope),
+        None => watched!(rayon::in_place_scope),
+    }
+    result.unwrap_or(Err(foon_core::Error::Invalid(
+        "a planning thread stopped without a result".into(),
+    )))
 }
 
 fn check_object(foon: &foon_core::Foon, o: u32) -> PyResult<()> {

@@ -3,6 +3,8 @@
 
 use std::collections::VecDeque;
 
+use rustc_hash::FxHashMap;
+
 use super::Context;
 use crate::index::NONE;
 
@@ -36,9 +38,8 @@ impl Ranks {
     }
 }
 
-/// Ranks from the kitchen (plus `extra` objects, if given), using only the FUs in `fus` (all
-/// when `None`).
-pub(crate) fn ranks(ctx: &Context<'_>, fus: Option<&[bool]>, extra: Option<&[bool]>) -> Ranks {
+/// Ranks from the kitchen (plus `extra` objects, if given).
+pub(crate) fn ranks(ctx: &Context<'_>, extra: Option<&[bool]>) -> Ranks {
     let foon = ctx.foon;
     let n = foon.object_count();
     let n_fu = foon.fu_count();
@@ -50,7 +51,6 @@ pub(crate) fn ranks(ctx: &Context<'_>, fus: Option<&[bool]>, extra: Option<&[boo
             queue.push_back(o);
         }
     }
-    let used = |f: u32| fus.is_none_or(|m| m[f as usize]);
     let mut left: Vec<u32> = (0..n_fu as u32)
         .map(|f| ctx.needed(f).len() as u32)
         .collect();
@@ -64,16 +64,13 @@ pub(crate) fn ranks(ctx: &Context<'_>, fus: Option<&[bool]>, extra: Option<&[boo
     };
     // FUs with no needed input can run at once.
     for f in 0..n_fu as u32 {
-        if left[f as usize] == 0 && used(f) {
+        if left[f as usize] == 0 {
             fire(f, 1, &mut rank, &mut queue);
         }
     }
     while let Some(o) = queue.pop_front() {
         let r = rank[o as usize];
         for &f in ctx.needed_by.row(o) {
-            if !used(f) {
-                continue;
-            }
             let l = &mut left[f as usize];
             *l -= 1;
             if *l == 0 {
@@ -83,4 +80,60 @@ pub(crate) fn ranks(ctx: &Context<'_>, fus: Option<&[bool]>, extra: Option<&[boo
         }
     }
     Ranks { rank }
+}
+
+/// Ranks of the objects made by the FUs `units` alone, from the kitchen: the same least
+/// fixpoint as [`ranks`] restricted to those FUs, but in time proportional to the units, not
+/// to the whole FOON. Kitchen objects are not in the map (their rank is 0); ids out of range
+/// and repeated units are ignored.
+pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> FxHashMap<u32, u32> {
+    let foon = ctx.foon;
+    let mut us: Vec<u32> = units
+        .iter()
+        .copied()
+        .filter(|&f| (f as usize) < foon.fu_count())
+        .collect();
+    us.sort_unstable();
+    us.dedup();
+    // Needed slots of each unit that wait for an object outside the kitchen, and for each such
+    // object the units (by position in `us`) where it is a needed slot.
+    let mut left = vec![0u32; us.len()];
+    let mut waiting: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
+    for (i, &f) in us.iter().enumerate() {
+        for &x in ctx.needed(f) {
+            if !ctx.in_kitchen(x) {
+                left[i] += 1;
+                waiting.entry(x).or_default().push(i as u32);
+            }
+        }
+    }
+    let mut rank: FxHashMap<u32, u32> = FxHashMap::default();
+    let mut queue = VecDeque::new();
+    let fire = |f: u32, r: u32, rank: &mut FxHashMap<u32, u32>, queue: &mut VecDeque<u32>| {
+        for &y in foon.outputs(f) {
+            if !ctx.in_kitchen(y) && !foon.is_bare(y) && !rank.contains_key(&y) {
+                rank.insert(y, r);
+                queue.push_back(y);
+            }
+        }
+    };
+    // Units whose needed inputs are all in the kitchen (or that need none) run first.
+    for (i, &f) in us.iter().enumerate() {
+        if left[i] == 0 {
+            fire(f, 1, &mut rank, &mut queue);
+        }
+    }
+    while let Some(o) = queue.pop_front() {
+        let r = rank[&o];
+        if let Some(ws) = waiting.get(&o) {
+            for &i in ws {
+                let l = &mut left[i as usize];
+                *l -= 1;
+                if *l == 0 {
+                    fire(us[i as usize], r + 1, &mut rank, &mut queue);
+                }
+            }
+        }
+    }
+    rank
 }

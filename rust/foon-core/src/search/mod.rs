@@ -341,12 +341,12 @@ impl<'a> Context<'a> {
 
     /// Ranks from the kitchen plus the objects marked in `extra`.
     pub fn ranks_with(&self, extra: &[bool]) -> Ranks {
-        forward::ranks(self, None, Some(extra))
+        forward::ranks(self, Some(extra))
     }
 
     /// Ranks and derivability from the kitchen (computed once, on first use).
     pub fn ranks(&self) -> &Ranks {
-        self.ranks.get_or_init(|| forward::ranks(self, None, None))
+        self.ranks.get_or_init(|| forward::ranks(self, None))
     }
 
     fn check_stop(&self) -> Result<()> {
@@ -483,16 +483,10 @@ impl<'a> Context<'a> {
 
     /// Height, success and leaf count of a set of FUs for `goal`.
     pub fn metrics(&self, units: &[u32], goal: u32) -> TreeMetrics {
-        let mut mask = vec![false; self.foon.fu_count()];
-        for &f in units {
-            if let Some(m) = mask.get_mut(f as usize) {
-                *m = true;
-            }
-        }
         let height = if self.in_kitchen(goal) {
             Some(0)
         } else {
-            forward::ranks(self, Some(&mask), None).rank(goal)
+            forward::unit_ranks(self, units).get(&goal).copied()
         };
         let success = if self.rates_given {
             units
@@ -519,17 +513,12 @@ impl<'a> Context<'a> {
     /// Whether the FUs `units` can be ordered so that every one of them runs (its needed
     /// inputs in the kitchen or made by an earlier one) and the goal is in the kitchen or made.
     pub fn is_valid(&self, units: &[u32], goal: u32) -> bool {
-        let mut mask = vec![false; self.foon.fu_count()];
-        for &f in units {
-            if let Some(m) = mask.get_mut(f as usize) {
-                *m = true;
-            }
-        }
-        let r = forward::ranks(self, Some(&mask), None);
-        let all_run = units
-            .iter()
-            .all(|&f| self.needed(f).iter().all(|&x| r.is_derivable(x)));
-        all_run && (self.in_kitchen(goal) || r.is_derivable(goal))
+        let r = forward::unit_ranks(self, units);
+        let made = |x: u32| self.in_kitchen(x) || r.contains_key(&x);
+        let all_run = units.iter().all(|&f| {
+            (f as usize) < self.foon.fu_count() && self.needed(f).iter().all(|&x| made(x))
+        });
+        all_run && made(goal)
     }
 
     /// Checks `units` in the given order: returns the position of the first FU with a needed

@@ -197,7 +197,7 @@ pub(super) fn explain(ctx: &Context<'_>, goal: u32) -> Result<Explanation> {
         });
     }
     // Blocked by cycles only: follow first producers through underivable inputs.
-    let r = forward::ranks(ctx, None, Some(&raw));
+    let r = forward::ranks(ctx, Some(&raw));
     let mut cycle = vec![goal];
     let mut cycle_units = Vec::new();
     let mut pos = vec![NONE; n];
