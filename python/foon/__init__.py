@@ -275,34 +275,123 @@ class FunctionalUnit:
     output_ids: tuple[int, ...] = field(repr=False, default=())
 
 
-@dataclass
 class TaskTree:
-    """The result of planning one goal."""
+    """The result of planning one goal. Objects and lists are built from the core's result
+    when first read."""
 
-    foon: Foon = field(repr=False)
-    goal: Object
-    goal_id: int
-    method: str
-    compat: str
-    count: str
-    solved: bool
-    #: FU indices (0-based, file order after de-duplication), in output order.
-    units: list[int]
-    #: Course methods: objects reached that are neither in the kitchen nor produced.
-    unresolved: list[Object]
-    #: Failed sound methods: raw items a tree would need that the kitchen lacks.
-    missing: list[Object]
-    #: Failed sound methods blocked only by cycles: one blocking cycle (first = last).
-    cycle: list[Object]
-    cycle_units: list[int]
-    height: int | None
-    success: float | None
-    cost: float | None
-    leaf_inputs: int
-    expanded: int
-    peak_frontier: int
-    seconds: float
-    planner: Planner | None = field(repr=False, default=None)
+    __slots__ = ("foon", "planner", "_plan", "_goal", "_units", "_unresolved", "_missing",
+                 "_cycle", "_cycle_units")
+
+    def __init__(self, foon: Foon, plan: _foon.Plan, planner: Planner | None = None) -> None:
+        self.foon = foon
+        self.planner = planner
+        self._plan = plan
+        self._goal: Object | None = None
+        self._units: list[int] | None = None
+        self._unresolved: list[Object] | None = None
+        self._missing: list[Object] | None = None
+        self._cycle: list[Object] | None = None
+        self._cycle_units: list[int] | None = None
+
+    def __repr__(self) -> str:
+        state = "solved" if self.solved else "unsolved"
+        return (f"<TaskTree {self.goal} by {self.method}"
+                f"{' (course)' if self.compat == 'course' else ''}: {state}, "
+                f"{len(self.units)} units>")
+
+    @property
+    def goal(self) -> Object:
+        if self._goal is None:
+            self._goal = self.foon.object(self._plan.goal)
+        return self._goal
+
+    @property
+    def goal_id(self) -> int:
+        return self._plan.goal
+
+    @property
+    def method(self) -> str:
+        return self._plan.method
+
+    @property
+    def compat(self) -> str:
+        """``"course"`` or ``"sound"``."""
+        return self._plan.compat
+
+    @property
+    def count(self) -> str:
+        """``"nodes"`` or ``"ingredients"``."""
+        return self._plan.count
+
+    @property
+    def solved(self) -> bool:
+        return self._plan.solved
+
+    @property
+    def units(self) -> list[int]:
+        """FU indices (0-based, file order after de-duplication), in output order."""
+        if self._units is None:
+            self._units = self._plan.units
+        return self._units
+
+    @property
+    def unresolved(self) -> list[Object]:
+        """Course methods: objects reached that are neither in the kitchen nor produced."""
+        if self._unresolved is None:
+            self._unresolved = [self.foon.object(o) for o in self._plan.unresolved]
+        return self._unresolved
+
+    @property
+    def missing(self) -> list[Object]:
+        """Failed sound methods: raw items a tree would need that the kitchen lacks."""
+        if self._missing is None:
+            self._missing = [self.foon.object(o) for o in self._plan.missing]
+        return self._missing
+
+    @property
+    def cycle(self) -> list[Object]:
+        """Failed sound methods blocked only by cycles: one blocking cycle (first = last)."""
+        if self._cycle is None:
+            self._cycle = [self.foon.object(o) for o in self._plan.cycle]
+        return self._cycle
+
+    @property
+    def cycle_units(self) -> list[int]:
+        if self._cycle_units is None:
+            self._cycle_units = self._plan.cycle_units
+        return self._cycle_units
+
+    @property
+    def height(self) -> int | None:
+        """Parallel steps of the tree (the rank of the goal using only its units)."""
+        return self._plan.height
+
+    @property
+    def success(self) -> float | None:
+        """Product of the motion success rates of the units (None without a rate table)."""
+        return self._plan.success
+
+    @property
+    def cost(self) -> float | None:
+        """The optimal methods' objective value (None for the others)."""
+        return self._plan.cost
+
+    @property
+    def leaf_inputs(self) -> int:
+        """Distinct kitchen items the units need."""
+        return self._plan.leaf_inputs
+
+    @property
+    def expanded(self) -> int:
+        return self._plan.expanded
+
+    @property
+    def peak_frontier(self) -> int:
+        return self._plan.peak_frontier
+
+    @property
+    def seconds(self) -> float:
+        return self._plan.seconds
 
     def __len__(self) -> int:
         return len(self.units)
@@ -638,17 +727,8 @@ class Planner:
         (None when it cannot be made)."""
         return list(self._native.ranks())
 
-    def _tree(self, d: dict[str, Any]) -> TaskTree:
-        objs = self.foon.object
-        return TaskTree(
-            foon=self.foon, goal=objs(d["goal"]), goal_id=d["goal"], method=d["method"],
-            compat=d["compat"], count=d["count"], solved=d["solved"], units=list(d["units"]),
-            unresolved=[objs(o) for o in d["unresolved"]],
-            missing=[objs(o) for o in d["missing"]],
-            cycle=[objs(o) for o in d["cycle"]], cycle_units=list(d["cycle_units"]),
-            height=d["height"], success=d["success"], cost=d["cost"],
-            leaf_inputs=d["leaf_inputs"], expanded=d["expanded"],
-            peak_frontier=d["peak_frontier"], seconds=d["seconds"], planner=self)
+    def _tree(self, plan: _foon.Plan) -> TaskTree:
+        return TaskTree(self.foon, plan, self)
 
 
 @dataclass(frozen=True)

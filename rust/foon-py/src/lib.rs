@@ -12,7 +12,6 @@ use std::sync::{Arc, Mutex};
 use foon_core::companion::{self, MotionRates, ObjectSpec};
 use foon_core::search::{self, Compat, Context, Count, Method, Plan, Prepared, Query};
 use foon_core::{InputKind, ParseOptions, verify, write};
-use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString};
 
@@ -65,45 +64,111 @@ struct PyFoon {
     inner: Arc<foon_core::Foon>,
 }
 
-fn plan_dict<'py>(py: Python<'py>, p: &Plan) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item(intern!(py, "goal"), p.goal)?;
-    d.set_item(intern!(py, "method"), p.query.method.as_str())?;
-    d.set_item(
-        intern!(py, "compat"),
-        if p.query.compat == Compat::Course {
-            "course"
-        } else {
-            "sound"
-        },
-    )?;
-    d.set_item(
-        intern!(py, "count"),
-        if p.query.count == Count::Ingredients {
-            "ingredients"
-        } else {
-            "nodes"
-        },
-    )?;
-    d.set_item(intern!(py, "solved"), p.solved)?;
-    d.set_item(intern!(py, "units"), &p.units)?;
-    d.set_item(intern!(py, "unresolved"), &p.unresolved)?;
-    let (missing, cycle, cycle_units) = p
-        .explanation
-        .as_ref()
-        .map(|e| (e.missing.clone(), e.cycle.clone(), e.cycle_units.clone()))
-        .unwrap_or_default();
-    d.set_item(intern!(py, "missing"), missing)?;
-    d.set_item(intern!(py, "cycle"), cycle)?;
-    d.set_item(intern!(py, "cycle_units"), cycle_units)?;
-    d.set_item(intern!(py, "height"), p.height)?;
-    d.set_item(intern!(py, "success"), p.success)?;
-    d.set_item(intern!(py, "cost"), p.cost)?;
-    d.set_item(intern!(py, "leaf_inputs"), p.leaf_inputs)?;
-    d.set_item(intern!(py, "expanded"), p.expanded)?;
-    d.set_item(intern!(py, "peak_frontier"), p.peak_frontier)?;
-    d.set_item(intern!(py, "seconds"), p.seconds)?;
-    Ok(d)
+/// One planning result, read by `foon.TaskTree` (object and FU ids; the Python layer turns
+/// them into objects only when asked).
+#[pyclass(frozen, module = "foon._foon", name = "Plan")]
+struct PyPlan {
+    plan: Plan,
+}
+
+fn str_compat(c: Compat) -> &'static str {
+    if c == Compat::Course {
+        "course"
+    } else {
+        "sound"
+    }
+}
+
+fn str_count(c: Count) -> &'static str {
+    if c == Count::Ingredients {
+        "ingredients"
+    } else {
+        "nodes"
+    }
+}
+
+#[pymethods]
+impl PyPlan {
+    #[getter]
+    fn goal(&self) -> u32 {
+        self.plan.goal
+    }
+    #[getter]
+    fn method(&self) -> &'static str {
+        self.plan.query.method.as_str()
+    }
+    #[getter]
+    fn compat(&self) -> &'static str {
+        str_compat(self.plan.query.compat)
+    }
+    #[getter]
+    fn count(&self) -> &'static str {
+        str_count(self.plan.query.count)
+    }
+    #[getter]
+    fn solved(&self) -> bool {
+        self.plan.solved
+    }
+    #[getter]
+    fn units(&self) -> Vec<u32> {
+        self.plan.units.clone()
+    }
+    #[getter]
+    fn unresolved(&self) -> Vec<u32> {
+        self.plan.unresolved.clone()
+    }
+    #[getter]
+    fn missing(&self) -> Vec<u32> {
+        self.plan
+            .explanation
+            .as_ref()
+            .map(|e| e.missing.clone())
+            .unwrap_or_default()
+    }
+    #[getter]
+    fn cycle(&self) -> Vec<u32> {
+        self.plan
+            .explanation
+            .as_ref()
+            .map(|e| e.cycle.clone())
+            .unwrap_or_default()
+    }
+    #[getter]
+    fn cycle_units(&self) -> Vec<u32> {
+        self.plan
+            .explanation
+            .as_ref()
+            .map(|e| e.cycle_units.clone())
+            .unwrap_or_default()
+    }
+    #[getter]
+    fn height(&self) -> Option<u32> {
+        self.plan.height
+    }
+    #[getter]
+    fn success(&self) -> Option<f64> {
+        self.plan.success
+    }
+    #[getter]
+    fn cost(&self) -> Option<f64> {
+        self.plan.cost
+    }
+    #[getter]
+    fn leaf_inputs(&self) -> usize {
+        self.plan.leaf_inputs
+    }
+    #[getter]
+    fn expanded(&self) -> u64 {
+        self.plan.expanded
+    }
+    #[getter]
+    fn peak_frontier(&self) -> usize {
+        self.plan.peak_frontier
+    }
+    #[getter]
+    fn seconds(&self) -> f64 {
+        self.plan.seconds
+    }
 }
 
 #[pymethods]
@@ -348,15 +413,15 @@ impl PyPlanner {
     /// Plans every goal (object ids); one result dict per goal. With more than one goal the
     /// work is spread over `threads` threads (all cores when None).
     #[pyo3(signature = (goals, method, compat, count, threads = None))]
-    fn plan<'py>(
+    fn plan(
         &self,
-        py: Python<'py>,
+        py: Python<'_>,
         goals: Vec<u32>,
         method: &str,
         compat: &str,
         count: &str,
         threads: Option<usize>,
-    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    ) -> PyResult<Vec<Py<PyPlan>>> {
         let query = Query {
             method: method.parse().map_err(errors::PyFoonErr)?,
             compat: compat.parse().map_err(errors::PyFoonErr)?,
@@ -383,7 +448,10 @@ impl PyPlanner {
                 plan_batch(foon, prep, &goals, query, threads)
             }
         })?;
-        plans.iter().map(|p| plan_dict(py, p)).collect()
+        plans
+            .into_iter()
+            .map(|plan| Py::new(py, PyPlan { plan }))
+            .collect()
     }
 
     /// Checks a tree: (valid in some order, height, first position in the given order whose
@@ -628,8 +696,8 @@ fn methods() -> Vec<&'static str> {
 mod _foon {
     #[pymodule_export]
     use super::{
-        PyFoon, PyPlanner, check, load_objects, load_rates, load_utensils, methods, parse_objects,
-        parse_rates, parse_utensils,
+        PyFoon, PyPlan, PyPlanner, check, load_objects, load_rates, load_utensils, methods,
+        parse_objects, parse_rates, parse_utensils,
     };
 
     #[pymodule_export]
