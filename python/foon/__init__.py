@@ -23,7 +23,7 @@ from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Literal, TypeAlias, Union
+from typing import Any, Generic, Literal, TypeAlias, TypeVar, Union, overload
 
 from foon import _foon
 from foon._foon import FoonError, GoalNotFoundError, MissingRateError, ParseError
@@ -275,23 +275,62 @@ class FunctionalUnit:
     output_ids: tuple[int, ...] = field(repr=False, default=())
 
 
+T = TypeVar("T")
+
+
+class _Read(Generic[T]):
+    """A :class:`TaskTree` attribute read from the core's result of the same name."""
+
+    def __init__(self, doc: str = "") -> None:
+        self.__doc__ = doc
+        self.name = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    @overload
+    def __get__(self, tree: None, owner: type) -> _Read[T]: ...
+    @overload
+    def __get__(self, tree: TaskTree, owner: type) -> T: ...
+    def __get__(self, tree: TaskTree | None, owner: type) -> _Read[T] | T:
+        if tree is None:
+            return self
+        return self.read(tree)
+
+    def read(self, tree: TaskTree) -> T:
+        return getattr(tree._plan, self.name)  # type: ignore[no-any-return]
+
+
+class _Kept(_Read[T]):
+    """Like :class:`_Read`, built once per tree (a list the caller may keep)."""
+
+    def read(self, tree: TaskTree) -> T:
+        try:
+            return tree._kept[self.name]  # type: ignore[no-any-return]
+        except KeyError:
+            v = tree._kept[self.name] = self.build(tree, getattr(tree._plan, self.name))
+            return v  # type: ignore[no-any-return]
+
+    def build(self, tree: TaskTree, raw: Any) -> Any:
+        return raw
+
+
+class _Objects(_Kept[list[Object]]):
+    def build(self, tree: TaskTree, raw: Any) -> Any:
+        return [tree.foon.object(o) for o in raw]
+
+
 class TaskTree:
     """The result of planning one goal. Objects and lists are built from the core's result
     when first read."""
 
-    __slots__ = ("foon", "planner", "_plan", "_goal", "_units", "_unresolved", "_missing",
-                 "_cycle", "_cycle_units")
+    __slots__ = ("foon", "planner", "_plan", "_kept")
 
     def __init__(self, foon: Foon, plan: _foon.Plan, planner: Planner | None = None) -> None:
         self.foon = foon
         self.planner = planner
         self._plan = plan
-        self._goal: Object | None = None
-        self._units: list[int] | None = None
-        self._unresolved: list[Object] | None = None
-        self._missing: list[Object] | None = None
-        self._cycle: list[Object] | None = None
-        self._cycle_units: list[int] | None = None
+        self._kept: dict[str, Any] = {}
 
     def __repr__(self) -> str:
         state = "solved" if self.solved else "unsolved"
@@ -301,97 +340,34 @@ class TaskTree:
 
     @property
     def goal(self) -> Object:
-        if self._goal is None:
-            self._goal = self.foon.object(self._plan.goal)
-        return self._goal
+        return self.foon.object(self._plan.goal)
 
     @property
     def goal_id(self) -> int:
         return self._plan.goal
 
-    @property
-    def method(self) -> str:
-        return self._plan.method
-
-    @property
-    def compat(self) -> str:
-        """``"course"`` or ``"sound"``."""
-        return self._plan.compat
-
-    @property
-    def count(self) -> str:
-        """``"nodes"`` or ``"ingredients"``."""
-        return self._plan.count
-
-    @property
-    def solved(self) -> bool:
-        return self._plan.solved
-
-    @property
-    def units(self) -> list[int]:
-        """FU indices (0-based, file order after de-duplication), in output order."""
-        if self._units is None:
-            self._units = self._plan.units
-        return self._units
-
-    @property
-    def unresolved(self) -> list[Object]:
-        """Course methods: objects reached that are neither in the kitchen nor produced."""
-        if self._unresolved is None:
-            self._unresolved = [self.foon.object(o) for o in self._plan.unresolved]
-        return self._unresolved
-
-    @property
-    def missing(self) -> list[Object]:
-        """Failed sound methods: raw items a tree would need that the kitchen lacks."""
-        if self._missing is None:
-            self._missing = [self.foon.object(o) for o in self._plan.missing]
-        return self._missing
-
-    @property
-    def cycle(self) -> list[Object]:
-        """Failed sound methods blocked only by cycles: one blocking cycle (first = last)."""
-        if self._cycle is None:
-            self._cycle = [self.foon.object(o) for o in self._plan.cycle]
-        return self._cycle
-
-    @property
-    def cycle_units(self) -> list[int]:
-        if self._cycle_units is None:
-            self._cycle_units = self._plan.cycle_units
-        return self._cycle_units
-
-    @property
-    def height(self) -> int | None:
-        """Parallel steps of the tree (the rank of the goal using only its units)."""
-        return self._plan.height
-
-    @property
-    def success(self) -> float | None:
-        """Product of the motion success rates of the units (None without a rate table)."""
-        return self._plan.success
-
-    @property
-    def cost(self) -> float | None:
-        """The optimal methods' objective value (None for the others)."""
-        return self._plan.cost
-
-    @property
-    def leaf_inputs(self) -> int:
-        """Distinct kitchen items the units need."""
-        return self._plan.leaf_inputs
-
-    @property
-    def expanded(self) -> int:
-        return self._plan.expanded
-
-    @property
-    def peak_frontier(self) -> int:
-        return self._plan.peak_frontier
-
-    @property
-    def seconds(self) -> float:
-        return self._plan.seconds
+    method = _Read[str]()
+    compat = _Read[str]('``"course"`` or ``"sound"``.')
+    count = _Read[str]('``"nodes"`` or ``"ingredients"``.')
+    solved = _Read[bool]()
+    units = _Kept[list[int]]("FU indices (0-based, file order after de-duplication), in "
+                             "output order.")
+    unresolved = _Objects("Course methods: objects reached that are neither in the kitchen "
+                          "nor produced.")
+    missing = _Objects("Failed sound methods: raw items a tree would need that the kitchen "
+                       "lacks.")
+    cycle = _Objects("Failed sound methods blocked only by cycles: one blocking cycle "
+                     "(first = last).")
+    cycle_units = _Kept[list[int]]("The units of that cycle.")
+    height = _Read[int | None]("Parallel steps of the tree (the goal's rank using only its "
+                               "units).")
+    success = _Read[float | None]("Product of the motion success rates of the units (None "
+                                  "without a rate table).")
+    cost = _Read[float | None]("The optimal methods' objective value (None for the others).")
+    leaf_inputs = _Read[int]("Distinct kitchen items the units need.")
+    expanded = _Read[int]("Objects expanded by the search.")
+    peak_frontier = _Read[int]("Largest frontier (open list) during the search.")
+    seconds = _Read[float]("Time spent planning, in seconds.")
 
     def __len__(self) -> int:
         return len(self.units)

@@ -3,6 +3,7 @@
 //! that line, counted in characters).
 
 use foon_core::Error;
+use foon_core::search::{Context, Plan};
 
 #[allow(dead_code)]
 pub fn check_error(data: &[u8], e: &Error) {
@@ -28,5 +29,23 @@ pub fn check_error(data: &[u8], e: &Error) {
         "column {} past the end of line {} ({chars} characters)",
         at.column,
         at.line
+    );
+}
+
+/// A solved sound plan must be a valid tree listed in execution order.
+#[allow(dead_code)]
+pub fn check_solved_tree(ctx: &Context<'_>, plan: &Plan, text: &str) {
+    let method = plan.query.method;
+    assert!(
+        ctx.is_valid(&plan.units, plan.goal),
+        "{method:?}: invalid tree {:?} for goal {}\n{text}",
+        plan.units,
+        plan.goal
+    );
+    assert_eq!(
+        ctx.first_unavailable(&plan.units),
+        None,
+        "{method:?}: units {:?} not in execution order\n{text}",
+        plan.units
     );
 }

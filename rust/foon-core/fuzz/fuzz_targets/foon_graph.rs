@@ -6,6 +6,9 @@
 
 #![no_main]
 
+#[path = "common.rs"]
+mod common;
+
 use std::fmt::Write as _;
 
 use foon_core::companion::MotionRates;
@@ -71,15 +74,7 @@ fuzz_target!(|data: &[u8]| {
     let utensils = vec!["l0".to_owned()];
     let ctx = Context::new(&foon, &kitchen, &utensils, Some(&rates), None).unwrap();
     let rank = ctx.ranks().rank(goal);
-    for method in [
-        Method::Bfs,
-        Method::Ids,
-        Method::GreedySuccess,
-        Method::GreedyInputs,
-        Method::OptimalSuccess,
-        Method::OptimalUnits,
-        Method::OptimalInputs,
-    ] {
+    for method in Method::ALL {
         for compat in [Compat::Sound, Compat::Course] {
             for count in [Count::Nodes, Count::Ingredients] {
                 let query = Query {
@@ -105,17 +100,7 @@ fuzz_target!(|data: &[u8]| {
                     );
                 }
                 if plan.solved {
-                    assert!(
-                        ctx.is_valid(&plan.units, goal),
-                        "{method:?}: invalid tree {:?}\n{text}",
-                        plan.units
-                    );
-                    assert_eq!(
-                        ctx.first_unavailable(&plan.units),
-                        None,
-                        "{method:?}: units {:?} not in execution order\n{text}",
-                        plan.units
-                    );
+                    common::check_solved_tree(&ctx, &plan, &text);
                     if method == Method::Ids {
                         assert_eq!(plan.height, rank, "ids height\n{text}");
                     }

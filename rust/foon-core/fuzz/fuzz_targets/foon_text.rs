@@ -12,16 +12,6 @@ use libfuzzer_sys::fuzz_target;
 #[path = "common.rs"]
 mod common;
 
-const METHODS: [Method; 7] = [
-    Method::Bfs,
-    Method::Ids,
-    Method::GreedySuccess,
-    Method::GreedyInputs,
-    Method::OptimalSuccess,
-    Method::OptimalUnits,
-    Method::OptimalInputs,
-];
-
 fuzz_target!(|data: &[u8]| {
     let strict = parse_foon(data, None, ParseOptions { strict: true });
     let foon = match parse_foon(data, None, ParseOptions::default()) {
@@ -74,7 +64,7 @@ fuzz_target!(|data: &[u8]| {
     for (kitchen, utensils, default_rate) in kitchens {
         let ctx = Context::new(&foon, kitchen, utensils, None, default_rate).unwrap();
         for &goal in &goals {
-            for method in METHODS {
+            for method in Method::ALL {
                 for compat in [Compat::Sound, Compat::Course] {
                     let query = Query {
                         method,
@@ -89,17 +79,7 @@ fuzz_target!(|data: &[u8]| {
                         continue;
                     };
                     if compat == Compat::Sound && method != Method::Bfs && plan.solved {
-                        assert!(
-                            ctx.is_valid(&plan.units, goal),
-                            "{method:?}: invalid tree {:?} for goal {goal}\n{text}",
-                            plan.units
-                        );
-                        assert_eq!(
-                            ctx.first_unavailable(&plan.units),
-                            None,
-                            "{method:?}: units {:?} not in execution order\n{text}",
-                            plan.units
-                        );
+                        common::check_solved_tree(&ctx, &plan, &text);
                     }
                 }
             }
