@@ -7,7 +7,8 @@
 #
 # Environment: FOON_DATA (default ../shared/data/foon beside the repository),
 # FUZZ_SANITIZER (default none: foon-core forbids unsafe code; "address" halves the speed),
-# FUZZ_MAX_LEN (default 4096), FUZZ_RSS_MB (default 2048).
+# FUZZ_MAX_LEN (default 4096), FUZZ_RSS_MB (default 2048), FUZZ_PARALLEL=1 (run the
+# targets at once, one core each, instead of one after another).
 # cargo-fuzz needs nightly flags; the stable toolchain accepts them with RUSTC_BOOTSTRAP=1.
 # Crashes land in rust/foon-core/fuzz/artifacts/<target>/, logs and the summary in
 # rust/foon-core/fuzz/artifacts/logs/ (both git-ignored, as is the corpus).
@@ -134,16 +135,13 @@ SUMMARY="$LOGS/summary.md"
 cd "$FUZZ"
 echo "== building"
 cargo fuzz build --sanitizer "$SANITIZER" 2>&1 | tail -3
-overall=0
-for t in "${TARGETS[@]}"; do
-    echo "== $t: ${SECS}s"
-    log="$LOGS/$t.log"
-    dict=()
+fuzz_one() {  # runs one target, writes its summary row to $LOGS/$1.row
+    local t=$1 log="$LOGS/$1.log" status=ok dict=()
     [[ -f "dicts/$t.dict" ]] && dict=("-dict=dicts/$t.dict")
-    status=ok
     cargo fuzz run --sanitizer "$SANITIZER" "$t" "corpus/$t" -- \
         -max_total_time="$SECS" -max_len="$MAX_LEN" -rss_limit_mb="$RSS_MB" -timeout=20 \
-        -print_final_stats=1 "${dict[@]}" > "$log" 2>&1 || { status="FAILED"; overall=1; }
+        -print_final_stats=1 "${dict[@]}" > "$log" 2>&1 || status="FAILED"
+    local runs speed last cov ft corp crashes
     runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
     speed=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
     last=$(grep -E '^#[0-9]+' "$log" | tail -1)
@@ -151,9 +149,28 @@ for t in "${TARGETS[@]}"; do
     ft=$(grep -o 'ft: [0-9]*' <<<"$last" | grep -o '[0-9]*' || true)
     corp=$(grep -o 'corp: [0-9]*/[0-9]*[a-zA-Z]*' <<<"$last" | sed 's/corp: //' || true)
     crashes=$(find "artifacts/$t" -maxdepth 1 -type f \( -name 'crash-*' -o -name 'oom-*' -o -name 'timeout-*' -o -name 'slow-unit-*' \) 2>/dev/null | wc -l)
-    echo "| $t | $status | ${runs:-?} | ${speed:-?} | ${cov:-?} | ${ft:-?} | ${corp:-?} | $crashes |" >> "$SUMMARY"
+    echo "| $t | $status | ${runs:-?} | ${speed:-?} | ${cov:-?} | ${ft:-?} | ${corp:-?} | $crashes |" > "$LOGS/$t.row"
     tail -n 12 "$log"
-done
+    [[ $status == ok ]]
+}
+
+overall=0
+if [[ ${FUZZ_PARALLEL:-0} == 1 ]]; then
+    # All the targets at once, one core each.
+    pids=()
+    for t in "${TARGETS[@]}"; do
+        echo "== $t: ${SECS}s (in parallel)"
+        fuzz_one "$t" > "$LOGS/$t.tail" & pids+=($!)
+    done
+    for pid in "${pids[@]}"; do wait "$pid" || overall=1; done
+    for t in "${TARGETS[@]}"; do cat "$LOGS/$t.tail"; done
+else
+    for t in "${TARGETS[@]}"; do
+        echo "== $t: ${SECS}s"
+        fuzz_one "$t" || overall=1
+    done
+fi
+for t in "${TARGETS[@]}"; do cat "$LOGS/$t.row" >> "$SUMMARY"; done
 echo
 cat "$SUMMARY"
 exit $overall
