@@ -82,11 +82,29 @@ pub(crate) fn ranks(ctx: &Context<'_>, extra: Option<&[bool]>) -> Ranks {
     Ranks { rank }
 }
 
+/// Ranks of the objects made by the FUs of a tree alone, from the kitchen (see [`unit_ranks`]).
+pub(crate) enum TreeRanks {
+    /// Object-indexed, for trees that are a large part of the FOON.
+    Dense(Vec<u32>),
+    /// Only the objects the tree makes, for small trees in large FOONs.
+    Sparse(FxHashMap<u32, u32>),
+}
+
+impl TreeRanks {
+    /// Rank of an object the tree makes (`None` when it does not make it). Kitchen objects are
+    /// for the caller to test first.
+    pub(crate) fn made(&self, o: u32) -> Option<u32> {
+        match self {
+            Self::Dense(r) => r.get(o as usize).copied().filter(|&r| r != NONE),
+            Self::Sparse(m) => m.get(&o).copied(),
+        }
+    }
+}
+
 /// Ranks of the objects made by the FUs `units` alone, from the kitchen: the same least
-/// fixpoint as [`ranks`] restricted to those FUs, but in time proportional to the units, not
-/// to the whole FOON. Kitchen objects are not in the map (their rank is 0); ids out of range
-/// and repeated units are ignored.
-pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> FxHashMap<u32, u32> {
+/// fixpoint as [`ranks`] restricted to those FUs, in time proportional to the units (not to the
+/// whole FOON) when they are few. Ids out of range and repeated units are ignored.
+pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> TreeRanks {
     let foon = ctx.foon;
     let mut us: Vec<u32> = units
         .iter()
@@ -95,25 +113,66 @@ pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> FxHashMap<u32, u32
         .collect();
     us.sort_unstable();
     us.dedup();
-    // Needed slots of each unit that wait for an object outside the kitchen, and for each such
-    // object the units (by position in `us`) where it is a needed slot.
-    let mut left = vec![0u32; us.len()];
-    let mut waiting: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
-    for (i, &f) in us.iter().enumerate() {
-        for &x in ctx.needed(f) {
-            if !ctx.in_kitchen(x) {
-                left[i] += 1;
-                waiting.entry(x).or_default().push(i as u32);
+    let dense = us.len().saturating_mul(8) > foon.object_count();
+    // Needed slots of each unit still waiting for an object outside the kitchen.
+    let mut left: Vec<u32> = us
+        .iter()
+        .map(|&f| {
+            ctx.needed(f)
+                .iter()
+                .filter(|&&x| !ctx.in_kitchen(x))
+                .count() as u32
+        })
+        .collect();
+    // Who waits for an object: dense, the FOON's needed-by lists filtered by the position of
+    // each FU in `us`; sparse, a linked list of slots per object (no allocation per object).
+    let mut pos = Vec::new();
+    let mut slot_unit: Vec<u32> = Vec::new();
+    let mut slot_next: Vec<u32> = Vec::new();
+    let mut head: FxHashMap<u32, u32> = FxHashMap::default();
+    let mut rank = if dense {
+        pos = vec![NONE; foon.fu_count()];
+        for (i, &f) in us.iter().enumerate() {
+            pos[f as usize] = i as u32;
+        }
+        TreeRanks::Dense(vec![NONE; foon.object_count()])
+    } else {
+        for (i, &f) in us.iter().enumerate() {
+            for &x in ctx.needed(f) {
+                if !ctx.in_kitchen(x) {
+                    let slot = slot_unit.len() as u32;
+                    slot_unit.push(i as u32);
+                    slot_next.push(head.insert(x, slot).unwrap_or(NONE));
+                }
             }
         }
-    }
-    let mut rank: FxHashMap<u32, u32> = FxHashMap::default();
+        TreeRanks::Sparse(FxHashMap::default())
+    };
     let mut queue = VecDeque::new();
-    let fire = |f: u32, r: u32, rank: &mut FxHashMap<u32, u32>, queue: &mut VecDeque<u32>| {
+    let fire = |f: u32, r: u32, rank: &mut TreeRanks, queue: &mut VecDeque<(u32, u32)>| {
         for &y in foon.outputs(f) {
-            if !ctx.in_kitchen(y) && !foon.is_bare(y) && !rank.contains_key(&y) {
-                rank.insert(y, r);
-                queue.push_back(y);
+            if ctx.in_kitchen(y) || foon.is_bare(y) {
+                continue;
+            }
+            let fresh = match rank {
+                TreeRanks::Dense(v) => {
+                    let slot = &mut v[y as usize];
+                    let fresh = *slot == NONE;
+                    if fresh {
+                        *slot = r;
+                    }
+                    fresh
+                }
+                TreeRanks::Sparse(m) => match m.entry(y) {
+                    std::collections::hash_map::Entry::Vacant(e) => {
+                        e.insert(r);
+                        true
+                    }
+                    std::collections::hash_map::Entry::Occupied(_) => false,
+                },
+            };
+            if fresh {
+                queue.push_back((y, r));
             }
         }
     };
@@ -123,15 +182,26 @@ pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> FxHashMap<u32, u32
             fire(f, 1, &mut rank, &mut queue);
         }
     }
-    while let Some(o) = queue.pop_front() {
-        let r = rank[&o];
-        if let Some(ws) = waiting.get(&o) {
-            for &i in ws {
-                let l = &mut left[i as usize];
-                *l -= 1;
-                if *l == 0 {
-                    fire(us[i as usize], r + 1, &mut rank, &mut queue);
+    let mut arrive = |i: usize, r: u32, rank: &mut TreeRanks, queue: &mut VecDeque<(u32, u32)>| {
+        left[i] -= 1;
+        if left[i] == 0 {
+            // The last needed input to arrive has the largest rank.
+            fire(us[i], r + 1, rank, queue);
+        }
+    };
+    while let Some((o, r)) = queue.pop_front() {
+        if dense {
+            for &f in ctx.needed_by.row(o) {
+                let i = pos[f as usize];
+                if i != NONE {
+                    arrive(i as usize, r, &mut rank, &mut queue);
                 }
+            }
+        } else {
+            let mut slot = head.get(&o).copied().unwrap_or(NONE);
+            while slot != NONE {
+                arrive(slot_unit[slot as usize] as usize, r, &mut rank, &mut queue);
+                slot = slot_next[slot as usize];
             }
         }
     }

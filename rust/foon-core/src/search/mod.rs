@@ -486,7 +486,7 @@ impl<'a> Context<'a> {
         let height = if self.in_kitchen(goal) {
             Some(0)
         } else {
-            forward::unit_ranks(self, units).get(&goal).copied()
+            forward::unit_ranks(self, units).made(goal)
         };
         let success = if self.rates_given {
             units
@@ -514,7 +514,7 @@ impl<'a> Context<'a> {
     /// inputs in the kitchen or made by an earlier one) and the goal is in the kitchen or made.
     pub fn is_valid(&self, units: &[u32], goal: u32) -> bool {
         let r = forward::unit_ranks(self, units);
-        let made = |x: u32| self.in_kitchen(x) || r.contains_key(&x);
+        let made = |x: u32| self.in_kitchen(x) || r.made(x).is_some();
         let all_run = units.iter().all(|&f| {
             (f as usize) < self.foon.fu_count() && self.needed(f).iter().all(|&x| made(x))
         });
