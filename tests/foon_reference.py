@@ -16,9 +16,11 @@ from __future__ import annotations
 
 import heapq
 import json
+import math
 import re
 import sys
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -26,7 +28,8 @@ Identity = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 """(label, sorted states, sorted ingredients, container)."""
 
 WARNING_KINDS: tuple[str, ...] = ("no-motion", "two-motions", "unterminated")
-METHODS: tuple[str, ...] = ("bfs", "ids", "greedy-success", "greedy-inputs")
+OPTIMAL_METHODS: tuple[str, ...] = ("optimal-success", "optimal-units", "optimal-inputs")
+METHODS: tuple[str, ...] = ("bfs", "ids", "greedy-success", "greedy-inputs", *OPTIMAL_METHODS)
 
 _LINE_KIND = re.compile(r"^[OSM][0-9]*\t")
 
@@ -481,16 +484,23 @@ def height(
 # --------------------------------------------------------------------------------------------
 
 
-def _optimal_inputs_choices(
-    foon: RefFoon, base: set[int], utensils: set[str]
-) -> dict[int, int]:
-    """Knuth's algorithm for cost(o) = 1 on `base`, else min over producers of the sum of
-    needed-input costs. Returns the choice (an FU index) of every reachable object outside base.
+def knuth(
+    foon: RefFoon,
+    base: set[int],
+    utensils: set[str],
+    leaf: float,
+    weight: Callable[[int], float],
+) -> tuple[dict[int, float], dict[int, int]]:
+    """Knuth's generalisation of Dijkstra: cost(o) = leaf on `base`, else min over producers f
+    of weight(f) + the costs of f's needed inputs (added in input order). Returns the final
+    cost of every object reached with a finite cost, and the choice (an FU index) of every such
+    object outside base.
 
     Objects are finalised in (cost, id) order. An FU is evaluated once, when all its needed
     inputs are final; it sets the cost of an output that is not final and not in base when it is
     strictly cheaper, or equally cheap with a lower FU index. So every choice has all its needed
-    inputs final before its object becomes final (no zero-cost cycle can sneak in).
+    inputs final before its object becomes final (no zero-cost cycle can sneak in). An FU of
+    infinite cost (a motion of rate 0) never sets anything.
     """
     needed: list[list[int]] = [needed_inputs(foon, f, utensils) for f in range(len(foon.fus))]
     users: dict[int, list[int]] = {}  # object -> FUs that need it
@@ -500,16 +510,20 @@ def _optimal_inputs_choices(
             if f not in users[x]:
                 users[x].append(f)
 
-    cost: dict[int, int] = {o: 1 for o in base}
+    cost: dict[int, float] = {o: leaf for o in base}
     choice: dict[int, int] = {}
     final: set[int] = set()
     evaluated: set[int] = set()
-    heap: list[tuple[int, int]] = [(1, o) for o in base]
+    heap: list[tuple[float, int]] = [(leaf, o) for o in base]
     heapq.heapify(heap)
 
     def evaluate(f: int) -> None:
         evaluated.add(f)
-        total = sum(cost[x] for x in needed[f])
+        total = weight(f)
+        for x in needed[f]:
+            total += cost[x]
+        if total == math.inf:
+            return
         for o in foon.fu_produced(f):
             if o in base or o in final:
                 continue
@@ -530,7 +544,37 @@ def _optimal_inputs_choices(
         for f in users.get(o, []):
             if f not in evaluated and all(x in final for x in needed[f]):
                 evaluate(f)
-    return choice
+    return cost, choice
+
+
+def _optimal_inputs_choices(
+    foon: RefFoon, base: set[int], utensils: set[str]
+) -> dict[int, int]:
+    """The choices of Knuth's algorithm with cost 1 on `base` and FUs of weight 0."""
+    return knuth(foon, base, utensils, 1.0, lambda f: 0.0)[1]
+
+
+def optimal_costs(
+    foon: RefFoon,
+    k: set[int],
+    utensils: set[str],
+    rates: dict[str, float] | None,
+    method: str,
+) -> tuple[dict[int, float], dict[int, int]]:
+    """Knuth's algorithm from K for an optimal method (METHODS.md): FU weight -ln(rate), 1 or
+    0, leaf cost 0, 0 or 1 for optimal-success, -units and -inputs."""
+    if method == "optimal-success":
+
+        def success_weight(f: int) -> float:
+            rate = _rate(rates, foon.fus[f].motion)
+            return math.inf if rate == 0 else -math.log(rate)
+
+        return knuth(foon, k, utensils, 0.0, success_weight)
+    if method == "optimal-units":
+        return knuth(foon, k, utensils, 0.0, lambda f: 1.0)
+    if method == "optimal-inputs":
+        return knuth(foon, k, utensils, 1.0, lambda f: 0.0)
+    raise ValueError(f"not an optimal method: {method}")
 
 
 def explain(
@@ -598,6 +642,7 @@ class RefResult:
     units: list[int]  # in output order
     unresolved: list[int]
     height: int | None
+    cost: float | None = None  # optimal methods: the optimum (a success probability for -success)
 
 
 def _rate(rates: dict[str, float] | None, motion: str) -> float:
@@ -780,10 +825,12 @@ def plan(
 ) -> RefResult:
     """Plan a task tree for `goal`.
 
-    method: "bfs", "ids", "greedy-success" or "greedy-inputs"; compat None (sound) or "course".
-    "bfs" is course-only (compat is ignored). A missing rate raises KeyError(motion).
+    method: one of METHODS; compat None (sound) or "course". "bfs" is course-only (compat is
+    ignored); the optimal methods are sound-only (compat "course" raises ValueError). A missing
+    rate raises KeyError(motion).
     A sound failure returns solved=False, no units, and as `unresolved` the missing items of
-    explain(), or the cycle objects when the goal is blocked only by a cycle.
+    explain(), or the cycle objects when the goal is blocked only by a cycle. An optimal-success
+    goal that is derivable but only through motions of rate 0 fails with nothing unresolved.
     """
     if method not in METHODS:
         raise ValueError(f"unknown method: {method}")
@@ -791,6 +838,8 @@ def plan(
         raise ValueError(f"unknown compat: {compat}")
     if count not in ("nodes", "ingredients"):
         raise ValueError(f"unknown count: {count}")
+    if method in OPTIMAL_METHODS and compat is not None:
+        raise ValueError(f"method {method} has no course-compatible form")
     goal_id = foon.object_id(goal)
     if goal_id is None:
         raise ValueError("The goal node does not exist")
@@ -803,6 +852,10 @@ def plan(
             return _course_plan(foon, goal_id, k, utensils, rates, method, count)
 
         if goal_id in k:
+            if method in OPTIMAL_METHODS:
+                # Nothing to do: success 1, no unit, the goal itself as the one kitchen input.
+                empty_cost = 0.0 if method == "optimal-units" else 1.0
+                return RefResult(solved=True, units=[], unresolved=[], height=0, cost=empty_cost)
             return RefResult(solved=True, units=[], unresolved=[], height=0)
         rank = ranks(foon, k, utensils)
         if goal_id not in rank:
@@ -813,7 +866,13 @@ def plan(
                 unresolved=missing if len(missing) > 0 else cycle,
                 height=None,
             )
-        if method == "ids":
+        optimum: float | None = None
+        if method in OPTIMAL_METHODS:
+            cost, choice = optimal_costs(foon, k, utensils, rates, method)
+            if goal_id not in cost:
+                return RefResult(solved=False, units=[], unresolved=[], height=None)
+            optimum = math.exp(-cost[goal_id]) if method == "optimal-success" else cost[goal_id]
+        elif method == "ids":
             choice = _ids_choices(foon, k, utensils, rank)
         else:
             resolved, choice = _greedy_choices(
@@ -826,6 +885,7 @@ def plan(
             units=units,
             unresolved=[],
             height=height(foon, units, goal_id, k, utensils),
+            cost=optimum,
         )
     finally:
         sys.setrecursionlimit(old_limit)

@@ -1,9 +1,10 @@
 """Differential tests: the Rust core (through the Python API) against the pure-Python reference.
 
-For every course/sound method the reference implements (``bfs``, ``ids``, ``greedy-success``,
-``greedy-inputs``) with ``compat`` None and ``"course"`` (and ``count="ingredients"`` as well as
-``"nodes"`` for ``greedy-inputs``), the Rust result must equal the reference result: the same
-``units`` in the same order, the same ``solved`` flag and the same ``height``; a failed sound plan
+For every method (``bfs``, ``ids``, ``greedy-success``, ``greedy-inputs`` with ``compat`` None
+and ``"course"``, and ``count="ingredients"`` as well as ``"nodes"`` for ``greedy-inputs``; the
+sound-only ``optimal-success``, ``optimal-units`` and ``optimal-inputs``), the Rust result must
+equal the reference result: the same ``units`` in the same order, the same ``solved`` flag, the
+same ``height`` and (optimal methods) exactly the same ``cost``; a failed sound plan
 must give the same missing items and the same cycle as ``foon_reference.explain``; a failed
 course plan the same unresolved objects.
 
@@ -35,7 +36,8 @@ from hypothesis import strategies as st
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "foon"
 
-REF_METHODS = ("bfs", "ids", "greedy-success", "greedy-inputs")
+REF_METHODS = ref.METHODS
+COURSE_METHODS = tuple(m for m in REF_METHODS if m not in ref.OPTIMAL_METHODS)
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,7 @@ class Config:
 def _configs() -> list[Config]:
     out = []
     for method in REF_METHODS:
-        for compat in (None, "course"):
+        for compat in (None, "course") if method in COURSE_METHODS else (None,):
             counts = ("nodes", "ingredients") if method == "greedy-inputs" else ("nodes",)
             for count in counts:
                 out.append(Config(method, compat, count))
@@ -136,7 +138,8 @@ def course() -> Course:
 def memoized_reference() -> Iterator[None]:
     """Memoises the reference's goal-independent pure functions while the block runs.
 
-    ``kitchen_ids``, ``ranks``, ``derivable``, ``_ids_choices`` and ``_optimal_inputs_choices``
+    ``kitchen_ids``, ``ranks``, ``derivable``, ``_ids_choices``, ``_optimal_inputs_choices`` and
+    ``optimal_costs``
     depend only on (foon, kitchen or base set, utensils), never on the goal; ``ref.plan`` and
     ``ref.explain`` recompute them for every goal, which makes thousands of plans on the
     4,305-object course FOON take minutes. The wrappers return copies of the cached values, so the
@@ -157,6 +160,7 @@ def memoized_reference() -> Iterator[None]:
     orig_derivable = ref.derivable
     orig_ids_choices = ref._ids_choices
     orig_optimal = ref._optimal_inputs_choices
+    orig_optimal_costs = ref.optimal_costs
 
     def kitchen_ids(f: ref.RefFoon, kitchen: list[ref.Identity]) -> set[int]:
         k = key("kitchen_ids", f, tuple(kitchen))
@@ -181,12 +185,25 @@ def memoized_reference() -> Iterator[None]:
         k = key("optimal", f, frozenset(base), frozenset(utensils))
         return dict(cached(k, f, lambda: orig_optimal(f, base, utensils)))
 
+    def optimal_costs(
+        f: ref.RefFoon,
+        k_ids: set[int],
+        utensils: set[str],
+        rates: dict[str, float] | None,
+        method: str,
+    ) -> tuple[dict[int, float], dict[int, int]]:
+        rate_key = None if rates is None else tuple(sorted(rates.items()))
+        k = key("optimal_costs", f, frozenset(k_ids), frozenset(utensils), rate_key, method)
+        cost, choice = cached(k, f, lambda: orig_optimal_costs(f, k_ids, utensils, rates, method))
+        return dict(cost), dict(choice)
+
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(ref, "kitchen_ids", kitchen_ids)
         mp.setattr(ref, "ranks", ranks)
         mp.setattr(ref, "derivable", derivable)
         mp.setattr(ref, "_ids_choices", ids_choices)
         mp.setattr(ref, "_optimal_inputs_choices", optimal)
+        mp.setattr(ref, "optimal_costs", optimal_costs)
         yield
 
 
@@ -222,6 +239,7 @@ def compare(
     assert tree.units == expected.units, where
     assert tree.solved == expected.solved, where
     assert tree.height == expected.height, where
+    assert tree.cost == expected.cost, where
     if cfg.sound:
         assert tree.unresolved == [], where
         if tree.solved:
@@ -304,8 +322,8 @@ def test_course_every_derivable_object(course: Course) -> None:
     """Every derivable object of the course FOON (4,191 with the course kitchen, kitchen objects
     included) as a goal with the course kitchen, utensils and rates.
 
-    The sound methods (ids, greedy-success, greedy-inputs with both counts) are compared on
-    every derivable object. The course-compatible configurations (bfs with compat None and
+    The sound methods (ids, greedy-success, greedy-inputs with both counts, the three optimal
+    methods) are compared on every derivable object. The course-compatible configurations (bfs with compat None and
     "course", and ids/greedy-* with compat "course") are compared on a seeded sample of
     COURSE_SAMPLE objects (random.Random(2024)), to keep the runtime reasonable; the reference
     is memoised (see memoized_reference) but still costs about 1 ms a plan.
@@ -326,7 +344,7 @@ def test_course_every_derivable_object(course: Course) -> None:
                 compare(rf, f, tree, goal_id, course.kitchen, course.utensils, course.rates,
                         cfg)  # fmt: skip
                 compared += 1
-    assert compared == 4 * len(derivable) + 6 * COURSE_SAMPLE
+    assert compared == len(SOUND_CONFIGS) * len(derivable) + len(COURSE_CONFIGS) * COURSE_SAMPLE
 
 
 DROP_FRACTIONS = (0.05, 0.10, 0.30)
@@ -371,7 +389,7 @@ def test_thread_count_independence(course: Course, compat: str | None) -> None:
     threads=1, 2 and None, for every method (the optimal ones are sound-only)."""
     f = course.foon
     goals = course.rgoals * 4  # 100 goals, so that every thread gets several
-    methods = REF_METHODS if compat else foon.METHODS
+    methods = COURSE_METHODS if compat else foon.METHODS
     for method in methods:
         counts = ("nodes", "ingredients") if method == "greedy-inputs" else ("nodes",)
         for count in counts:
@@ -396,7 +414,9 @@ INGREDIENTS = ("onion", "egg", "salt")
 STATES = ("whole", "chopped", "boiled", "hot")
 CONTAINERS = ("bowl", "pot")
 MOTIONS = ("chop", "mix", "boil", "pour")
-RATES = (0.25, 0.5, 0.5, 0.9)  # equal rates on purpose: ties go to the lowest FU index
+#: Equal rates on purpose (ties go to the lowest FU index); rate 1 makes zero-cost cycles for
+#: optimal-success, rate 0 units that it can never use.
+RATES = (0.0, 0.25, 0.5, 0.5, 0.9, 1.0)
 
 
 @dataclass(frozen=True)
@@ -663,3 +683,41 @@ def test_explanation_when_a_kitchen_object_can_be_made_from_nothing() -> None:
     for cfg in SOUND_CONFIGS:
         (tree,) = rust_plan_all(f, [goal], rust_kitchen(kitchen), [], None, cfg)
         compare(rf, f, tree, goal, kitchen, set(), None, cfg)
+
+
+#: g is made by FU 0 from the kitchen object a, or by FU 1 from nothing; both motions have
+#: rate 1, so both ways cost 0 for optimal-success and the tie goes to FU 0 (a, id 0, is
+#: final before g, id 1). Rust once weighed rate 1 as -0.0, which its heap ordered before
+#: the leaves' +0.0, so g was final before a and FU 1 was chosen.
+RATE_ONE_TIE = "O\ta\nS\tx\nM\tmix\nO\tg\nS\ty\n//\nM\tchop\nO\tg\nS\ty\n//\n"
+
+
+def test_rate_one_ties_go_to_the_lowest_index() -> None:
+    rf = ref.parse(RATE_ONE_TIE)
+    f = foon.Foon.from_text(RATE_ONE_TIE)
+    assert_same_tables(rf, f)
+    kitchen = [("a", ("x",), (), None)]
+    rates = {"mix": 1.0, "chop": 1.0}
+    (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], rates,
+                            Config("optimal-success", None, "nodes"))  # fmt: skip
+    assert tree.units == [0] and tree.cost == 1.0
+    compare(rf, f, tree, 1, kitchen, set(), rates, Config("optimal-success", None, "nodes"))
+
+
+def test_a_motion_of_rate_zero_is_never_used() -> None:
+    """optimal-success fails, with nothing missing and no cycle, when every way to the goal
+    uses a motion of rate 0; the other sound methods ignore rates and succeed."""
+    rf = ref.parse(RATE_ONE_TIE)
+    f = foon.Foon.from_text(RATE_ONE_TIE)
+    kitchen = [("a", ("x",), (), None)]
+    rates = {"mix": 0.0, "chop": 0.0}
+    for cfg in SOUND_CONFIGS:
+        (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], rates, cfg)
+        compare(rf, f, tree, 1, kitchen, set(), rates, cfg)
+        assert tree.solved == (cfg.method != "optimal-success"), cfg
+        if not tree.solved:
+            assert tree.missing == [] and tree.cycle == []
+            assert tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+    (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], {"mix": 0.0, "chop": 0.5},
+                            Config("optimal-success", None, "nodes"))  # fmt: skip
+    assert tree.units == [1] and tree.cost == 0.5

@@ -395,6 +395,8 @@ class TaskTree:
         if self.cycle:
             steps = " -> ".join(str(o) for o in self.cycle)
             return f"every way to make it relies on a circular step: {steps}"
+        if self.method == "optimal-success":
+            return "every way to make it uses a motion whose success rate is 0"
         return "no task tree exists"
 
     def to_dict(self) -> dict[str, Any]:

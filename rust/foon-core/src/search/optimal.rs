@@ -143,17 +143,21 @@ pub(super) fn knuth(
 
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let (leaf, weight): (f64, Box<dyn Fn(u32) -> Result<f64>>) = match query.method {
-        Method::OptimalSuccess => (0.0, Box::new(|f| ctx.rate(f).map(|r| -r.ln()))),
+        // `0.0 - ln r`, not `-ln r`: a rate of 1 must weigh +0, as the leaves do. A -0 would
+        // sort before every +0 in the heap's total order and finalise such objects out of
+        // (cost, id) order.
+        Method::OptimalSuccess => (0.0, Box::new(|f| ctx.rate(f).map(|r| 0.0 - r.ln()))),
         Method::OptimalUnits => (0.0, Box::new(|_| Ok(1.0))),
         _ => (1.0, Box::new(|_| Ok(0.0))),
     };
     let k = knuth(ctx, None, leaf, &weight, Some(goal))?;
     let c = k.cost[goal as usize];
     if !c.is_finite() {
-        // Derivable but of infinite cost (a motion with rate 0 on every way).
+        // Derivable, but every way to make it uses a motion of rate 0: nothing is missing and
+        // no cycle blocks it, so the explanation is empty (the rates are the reason).
         let mut p = ctx.empty_plan(goal, query);
         p.solved = false;
-        p.explanation = Some(explain(ctx, goal)?);
+        p.explanation = Some(Explanation::default());
         return Ok(p);
     }
     let units = tree::emit(ctx, goal, &k.choice);
