@@ -108,6 +108,40 @@ def test_out_never_replaces_an_input(tmp_path: Path, capsys: Capture) -> None:
     assert sorted(p.name for p in out.iterdir()) == ["ice.txt"]  # no temporary file left
 
 
+def test_out_writes_nothing_when_a_later_goal_would_replace_an_input(
+    tmp_path: Path, capsys: Capture
+) -> None:
+    ex = foon.example()
+    first, second = ex.goals[0], next(g for g in ex.goals if g.label != ex.goals[0].label)
+    out = tmp_path / "o"
+    out.mkdir()
+    kitchen = out / (second.label.replace(" ", "_") + ".txt")  # where the 2nd tree would go
+    kitchen.write_text(ex.paths["kitchen"].read_text())
+    before = kitchen.read_bytes()
+    goals = json.dumps([first.to_dict(), second.to_dict()])
+    code, _, err = run(["plan", "--foon", str(ex.paths["foon"]), "--kitchen", str(kitchen),
+                        "--goal", goals, "--out", str(out)], capsys)  # fmt: skip
+    assert code == 1 and "refusing to overwrite an input file" in err
+    assert kitchen.read_bytes() == before
+    assert sorted(p.name for p in out.iterdir()) == [kitchen.name]  # the first was not written
+
+
+def test_out_file_names_stay_inside_the_folder(tmp_path: Path, capsys: Capture) -> None:
+    text = "M\tmix\nO\t../evil\nS\tdone\n//\nM\tmix\nO\ta/b:c\nS\tdone\n//\n"
+    (tmp_path / "f.txt").write_text(text)
+    (tmp_path / "k.json").write_text("[]")
+    goals = [{"label": "../evil", "states": ["done"], "ingredients": [], "container": None},
+             {"label": "a/b:c", "states": ["done"], "ingredients": [], "container": None}]
+    out = tmp_path / "deep" / "o"
+    code, _, err = run(["plan", "--foon", str(tmp_path / "f.txt"), "--kitchen",
+                        str(tmp_path / "k.json"), "--goal", json.dumps(goals), "--method", "bfs",
+                        "--out", str(out)], capsys)  # fmt: skip
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == [".._evil.txt", "a_b_c.txt"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deep", "f.txt", "k.json"]
+    assert sorted(p.name for p in (tmp_path / "deep").iterdir()) == ["o"]
+
+
 def test_stats_text_and_json(capsys: Capture) -> None:
     path = str(foon.example().paths["foon"])
     code, out, _ = run(["stats", path], capsys)

@@ -67,12 +67,30 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def write_atomic(path: Path, text: str, inputs: Sequence[str | None] = ()) -> None:
-    """Writes ``text`` to ``path`` through a temporary file in the same folder and a rename,
-    so a failed or interrupted run never leaves a partial file; refuses to replace an input."""
+#: Characters that may not stand in a file name made from a label (path separators, and
+#: what common file systems reject); each becomes ``_``, as spaces do.
+_UNSAFE_IN_NAME = str.maketrans({c: "_" for c in ' /\\:*?"<>|'})
+
+
+def file_stem(label: str) -> str:
+    """The file name (without extension) for a goal: its label with spaces as ``_`` (the
+    course's naming), and path separators and other unsafe characters as ``_`` too, so that a
+    label can never name a file outside the output folder."""
+    stem = "".join("_" if ord(c) < 32 else c for c in label.translate(_UNSAFE_IN_NAME))
+    return "_" + stem if stem in ("", ".", "..") else stem
+
+
+def refuse_input(path: Path, inputs: Sequence[str | None]) -> None:
+    """Raises FoonError when ``path`` is one of the input files."""
     for i in inputs:
         if i is not None and _same_file(path, Path(i)):
             raise foon.FoonError(f"{path}: refusing to overwrite an input file")
+
+
+def write_atomic(path: Path, text: str, inputs: Sequence[str | None] = ()) -> None:
+    """Writes ``text`` to ``path`` through a temporary file in the same folder and a rename,
+    so a failed or interrupted run never leaves a partial file; refuses to replace an input."""
+    refuse_input(path, inputs)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
@@ -113,16 +131,23 @@ def cmd_plan(args: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
         ext = ".json" if args.format == "json" else ".txt"
         used: dict[str, int] = {}
+        files: list[tuple[Path, foon.TaskTree]] = []
         for t in trees:
-            stem = t.goal.label.replace(" ", "_")
+            stem = file_stem(t.goal.label)
             used[stem] = used.get(stem, 0) + 1
             if used[stem] > 1:
                 # Two goals with one label: keep both files rather than replace the first.
                 print(f"foon: note: a second goal labelled '{t.goal.label}' is written to "
                       f"{stem}_{used[stem]}{ext}", file=sys.stderr)
                 stem = f"{stem}_{used[stem]}"
+            files.append((out / (stem + ext), t))
+        # Every destination is checked before the first is written: nothing is written when
+        # one of them would replace an input.
+        for path, _ in files:
+            refuse_input(path, inputs)
+        for path, t in files:
             text = t.to_json() + "\n" if args.format == "json" else t.to_text()
-            write_atomic(out / (stem + ext), text, inputs)
+            write_atomic(path, text, inputs)
     elif args.format == "json":
         sys.stdout.write(json.dumps([t.to_dict() for t in trees], indent=2) + "\n")
     else:
