@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import json
 import re
+import subprocess
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -68,6 +70,10 @@ def test_the_corpus_covers_what_it_must() -> None:
         assert (HERE / c["file"]).is_file(), c["file"]
     dialects = {c["dialect"] for c in CASES if c["kind"] == "foon"}
     assert dialects == {"A", "A'", "B", "B'"}
+    # Every warning kind that strict mode turns into an error, in every dialect.
+    for dialect in dialects:
+        warned = {c.get("warning") for c in CASES if c["kind"] == "foon" and c["dialect"] == dialect}
+        assert {"no-motion", "two-motions", "unterminated"} <= warned, dialect
     kinds = {c["kind"] for c in CASES}
     assert kinds == {"foon", "kitchen", "goal", "motions", "utensils"}
     # Dialect B files really are CRLF.
@@ -184,6 +190,22 @@ def test_hundred_megabyte_line_fails_fast() -> None:
     assert elapsed < 5.0, f"took {elapsed:.2f} s"
 
 
+def test_hundred_megabyte_line_from_the_cli(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "huge.foon"
+    with path.open("wb") as fh:
+        fh.write(b"O\tonion\nM\tchop\n//\nO\t")
+        fh.write(b"x" * 100_000_000)
+        fh.write(b"\nM\tchop\n//\n")
+    start = time.perf_counter()
+    assert foon.cli.main(["stats", str(path)]) == 1
+    elapsed = time.perf_counter() - start
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert "100000002 bytes" in _one_error_line(err, path, 4, 1)
+    assert elapsed < 10.0, f"took {elapsed:.2f} s"
+
+
 # --- missing files ---------------------------------------------------------------------------
 
 
@@ -238,3 +260,47 @@ def test_deep_chain_plans_without_crashing(chain: foon.Foon, method: str,
         assert t.units[0] == 0 and t.units[-1] == DEPTH - 1
     if method == "optimal-units":
         assert t.cost == DEPTH
+
+
+# --- memory ----------------------------------------------------------------------------------
+
+#: Loads a FOON file in a fresh interpreter and prints its size, the index's bytes and the peak
+#: resident memory that loading added (kB), read from /proc and getrusage.
+MEASURE = """
+import os, resource, sys
+import foon
+def rss_kb():
+    with open("/proc/self/status") as fh:
+        return next(int(l.split()[1]) for l in fh if l.startswith("VmRSS:"))
+foon.example()  # code pages and allocator arenas that any first load brings in
+base = rss_kb()
+f = foon.load(sys.argv[1])
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print(os.path.getsize(sys.argv[1]), f.stats()["index_bytes"], peak - base)
+"""
+
+
+def _chain_file(path: Path, n: int) -> Path:
+    with path.open("w") as fh:
+        for i in range(n):
+            fh.write(f"O\titem\nS\tstep{i}\nM\tstep\nO\titem\nS\tstep{i + 1}\n//\n")
+    return path
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs /proc (Linux)")
+def test_memory_is_proportional_to_the_input(tmp_path: Path) -> None:
+    """Loading a chain (every object distinct: the most index per byte of text) takes memory
+    in proportion to the file. From 40,000 to 400,000 units, each added byte of input adds at
+    most 3 bytes of index and at most 6 bytes of peak memory (the file, the index and the
+    builder's tables), and the larger load stays within those bounds as a whole."""
+    measured = []
+    for n in (40_000, 400_000):
+        path = _chain_file(tmp_path / f"chain{n}.foon", n)
+        p = subprocess.run([sys.executable, "-c", MEASURE, str(path)], capture_output=True,
+                           text=True, timeout=300, check=True)  # fmt: skip
+        size, index_bytes, peak_kb = (int(x) for x in p.stdout.split())
+        measured.append((size, index_bytes, peak_kb * 1024))
+    (size0, index0, peak0), (size1, index1, peak1) = measured
+    assert index1 - index0 <= 3 * (size1 - size0), measured
+    assert peak1 - peak0 <= 6 * (size1 - size0), measured
+    assert index1 <= 3 * size1 and peak1 <= 6 * size1, measured
