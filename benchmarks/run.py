@@ -12,7 +12,9 @@ import json
 import os
 import platform
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -151,12 +153,71 @@ def bench_scale(n: int, small: int, repeat: int) -> None:
         print(f"| {method}{' (course)' if compat else ''} | {fmt(t)} | {fmt(r)} | {r / t:,.0f}x |")
 
 
+#: Run in a fresh interpreter: loads argv[2] with foon ("foon") or the pure-Python reference
+#: ("reference") and prints the index bytes (foon only, else 0) and the peak resident memory
+#: the load added, in bytes (after a warm-up load of a tiny FOON by the same code).
+MEASURE_MEMORY = """
+import sys
+sys.path.insert(0, sys.argv[3])
+import foon, foon_reference as ref
+def status(key):  # bytes; VmHWM is the peak of this process only (ru_maxrss can be the parent's)
+    with open("/proc/self/status") as fh:
+        return 1024 * next(int(l.split()[1]) for l in fh if l.startswith(key + ":"))
+tiny = "O\\ta\\nM\\tm\\nO\\tb\\nS\\tx\\n//\\n"
+if sys.argv[1] == "foon":
+    foon.Foon.from_text(tiny)
+    base = status("VmRSS")
+    index = foon.load(sys.argv[2]).stats()["index_bytes"]
+else:
+    ref.parse(tiny)
+    base = status("VmRSS")
+    with open(sys.argv[2], encoding="utf-8") as fh:
+        ref.parse(fh.read())
+    index = 0
+print(index, status("VmHWM") - base)
+"""
+
+
+def load_memory(which: str, path: Path) -> tuple[int, int]:
+    """(index bytes, peak bytes added) of loading `path` in a fresh interpreter."""
+    out = subprocess.run([sys.executable, "-c", MEASURE_MEMORY, which, str(path),
+                          str(HERE.parent / "tests")], capture_output=True, text=True,
+                         check=True).stdout.split()  # fmt: skip
+    return int(out[0]), int(out[1])
+
+
+def bench_memory(data: Path, n: int) -> None:
+    """Peak memory of loading a file, against its size, for foon and the reference parser."""
+    if not Path("/proc/self/status").exists():
+        print("\n(memory: needs /proc, skipped)")
+        return
+    biggest = max((data / "lab_history").glob("*.txt"), key=lambda q: q.stat().st_size)
+    with tempfile.TemporaryDirectory() as tmp:
+        chain = Path(tmp) / f"chain_{n}.foon"
+        chain.write_text(chain_text(n))
+        files = [("course FOON.txt", data / "FOON.txt"),
+                 (f"lab_history/{biggest.name}", biggest),
+                 (f"a chain of {n:,} units", chain)]  # fmt: skip
+        print("\n### Memory: loading a file (peak resident memory added, fresh process)\n")
+        print("| file | size | foon index | foon peak | reference peak "
+              "| foon uses less by |")
+        print("|---|---:|---:|---:|---:|---:|")
+        for name, path in files:
+            size = path.stat().st_size
+            index, peak = load_memory("foon", path)
+            _, ref_peak = load_memory("reference", path)
+            mb = 1 << 20
+            print(f"| {name} | {size / mb:.1f} MiB | {index / mb:.1f} MiB ({index / size:.1f}x) "
+                  f"| {peak / mb:.1f} MiB ({peak / size:.1f}x) "
+                  f"| {ref_peak / mb:.1f} MiB ({ref_peak / size:.1f}x) | {ref_peak / peak:.1f}x |")
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--data", type=Path,
                    default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
-    p.add_argument("--only", choices=["parse", "plan", "scale"])
+    p.add_argument("--only", choices=["parse", "plan", "scale", "memory"])
     p.add_argument("--chain", type=int, default=300_000, help="units in the scaling chain")
     p.add_argument("--small-chain", type=int, default=2_000,
                    help="units in the chain planned side by side with the reference")
@@ -169,6 +230,8 @@ def main() -> None:
         bench_plan(a.data, a.repeat)
     if a.only in (None, "scale"):
         bench_scale(a.chain, a.small_chain, a.repeat)
+    if a.only in (None, "memory"):
+        bench_memory(a.data, a.chain)
 
 
 if __name__ == "__main__":
