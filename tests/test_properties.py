@@ -153,6 +153,13 @@ class Checker:
                 assert len(tree.cycle) >= 2 and tree.cycle[0] == tree.cycle[-1], where
             assert tree.explanation() != "", where
             return
+        if cfg.method == "optimal-success" and not tree.solved:
+            # Derivable, but every way to make it uses a motion of rate 0 (check_costs checks
+            # that the other methods' trees do): nothing is missing and no cycle blocks it.
+            assert tree.units == [] and tree.cost is None, where
+            assert tree.missing == [] and tree.cycle == [] and tree.unresolved == [], where
+            assert tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            return
         assert tree.solved, where
         assert tree.missing == [] and tree.cycle == [] and tree.unresolved == [], where
         assert len(set(tree.units)) == len(tree.units), where
@@ -181,16 +188,18 @@ class Checker:
         cost: dict[int, float] = {}  # objects outside K
         for u in units:
             if method == "optimal-success":
-                w = -math.log(self.rates[self.rf.fus[u].motion])
+                rate = self.rates[self.rf.fus[u].motion]
+                w = math.inf if rate == 0 else -math.log(rate)
             elif method == "optimal-units":
                 w = 1.0
             else:
                 w = 0.0
-            total = w + sum(leaf if x in k else cost[x] for x in self.needed[u])
+            # An object made only through a motion of rate 0 costs inf (absent from `cost`).
+            total = w + sum(leaf if x in k else cost.get(x, math.inf) for x in self.needed[u])
             for o in self.produced[u]:
                 if o not in k and total < cost.get(o, math.inf):
                     cost[o] = total
-        return leaf if goal in k else cost[goal]
+        return leaf if goal in k else cost.get(goal, math.inf)
 
     def check_costs(self, trees: dict[Sound, foon.TaskTree]) -> None:
         """The optimal-* properties over the sound trees of one derivable goal."""
@@ -199,6 +208,13 @@ class Checker:
         for method in OPTIMAL:
             best = trees[Sound(method)]
             where = f"{method} goal {goal} {self.rf.objects[goal]}"
+            if method == "optimal-success" and not best.solved:
+                # No tree without a motion of rate 0: every other method's tree has one.
+                for cfg, other in trees.items():
+                    if other.solved:
+                        assert self.multiplicity_cost(other.units, goal, method) == math.inf, (
+                            where, str(cfg))
+                continue
             assert best.cost is not None, where
             own = self.multiplicity_cost(best.units, goal, method)
             if method == "optimal-success":

@@ -10,17 +10,17 @@ use crate::error::Result;
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let foon = ctx.foon;
     let mut queue = VecDeque::from([goal]);
-    let mut in_queue = vec![false; foon.object_count()];
-    let mut visited = vec![false; foon.object_count()];
-    let mut in_tree = vec![false; foon.fu_count()];
-    in_queue[goal as usize] = true;
+    let mut in_queue = ctx.id_map(foon.object_count(), false);
+    let mut visited = ctx.id_map(foon.object_count(), false);
+    let mut in_tree = ctx.id_map(foon.fu_count(), false);
+    in_queue.set(goal, true);
     let mut tree = Vec::new();
     let mut unresolved = Vec::new();
     let mut expanded = 0u64;
     let mut peak = 1usize;
     while let Some(o) = queue.pop_front() {
-        in_queue[o as usize] = false;
-        if std::mem::replace(&mut visited[o as usize], true) {
+        in_queue.set(o, false);
+        if visited.replace(o, true) {
             continue;
         }
         if ctx.in_kitchen(o) {
@@ -36,13 +36,12 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             continue;
         }
         let f = choose(ctx, prods, query)?;
-        if std::mem::replace(&mut in_tree[f as usize], true) {
+        if in_tree.replace(f, true) {
             continue;
         }
         tree.push(f);
         for &x in ctx.needed(f) {
-            if !in_queue[x as usize] {
-                in_queue[x as usize] = true;
+            if !in_queue.replace(x, true) {
                 queue.push_back(x);
             }
         }

@@ -3,6 +3,7 @@
 //! needs an object on the current path. Choices, once made, are kept. Own stack, no
 //! recursion.
 
+use super::scratch::IdMap;
 use super::{Context, Plan, Query, tree};
 use crate::error::Result;
 use crate::index::NONE;
@@ -20,8 +21,8 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let foon = ctx.foon;
     let ranks = ctx.ranks();
     let n = foon.object_count();
-    let mut choice = vec![NONE; n];
-    let mut on_path = vec![false; n];
+    let mut choice = ctx.id_map(n, NONE);
+    let mut on_path = ctx.id_map(n, false);
     let mut buf: Vec<u32> = Vec::new();
     let mut stack: Vec<Frame> = Vec::new();
     let mut expanded = 0u64;
@@ -30,7 +31,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let push = |o: u32,
                 stack: &mut Vec<Frame>,
                 buf: &mut Vec<u32>,
-                on_path: &mut Vec<bool>|
+                on_path: &mut IdMap<bool>|
      -> Result<()> {
         let start = buf.len();
         buf.extend_from_slice(foon.producers(o));
@@ -42,7 +43,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             input: 0,
             checked: false,
         });
-        on_path[o as usize] = true;
+        on_path.set(o, true);
         Ok(())
     };
     // The goal is derivable and not in the kitchen (the caller checked).
@@ -63,8 +64,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             let (a, b) = top.cands;
             if a + top.cand >= b {
                 // No producer works: fail.
-                let o = top.obj;
-                on_path[o as usize] = false;
+                on_path.set(top.obj, false);
                 buf.truncate(a);
                 stack.pop();
                 child = Some(false);
@@ -73,7 +73,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             let f = buf[a + top.cand];
             let ins = ctx.needed(f);
             if !top.checked {
-                if ins.iter().any(|&x| on_path[x as usize]) {
+                if ins.iter().any(|&x| on_path.get(x)) {
                     top.cand += 1;
                     continue;
                 }
@@ -81,15 +81,15 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             }
             if top.input == ins.len() {
                 let o = top.obj;
-                choice[o as usize] = f;
-                on_path[o as usize] = false;
+                choice.set(o, f);
+                on_path.set(o, false);
                 buf.truncate(a);
                 stack.pop();
                 child = Some(true);
                 continue 'frames;
             }
             let x = ins[top.input];
-            if ctx.in_kitchen(x) || choice[x as usize] != NONE {
+            if ctx.in_kitchen(x) || choice.get(x) != NONE {
                 top.input += 1;
             } else if !ranks.is_derivable(x) {
                 top.cand += 1;
@@ -106,7 +106,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             }
         }
     }
-    let units = tree::emit(ctx, goal, &choice);
+    let units = tree::emit(ctx, goal, |o| choice.get(o));
     Ok(Plan {
         units,
         expanded,

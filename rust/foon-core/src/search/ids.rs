@@ -3,17 +3,18 @@
 //! largest limit each object failed at), which makes the whole deepening linear in practice,
 //! and it keeps its own stack, so a chain a million steps deep needs no call stack.
 
+use super::scratch::IdMap;
 use super::{Context, Plan, Query, tree};
 use crate::error::Result;
 use crate::index::NONE;
 
 struct Memo {
     /// Exact rank, when known.
-    rank: Vec<u32>,
+    rank: IdMap<u32>,
     /// `l + 1` where `l` is the largest limit known to fail (0: none).
-    failed: Vec<u32>,
+    failed: IdMap<u32>,
     /// Lowest-index producer achieving the rank.
-    choice: Vec<u32>,
+    choice: IdMap<u32>,
 }
 
 impl Memo {
@@ -25,11 +26,11 @@ impl Memo {
         if ctx.in_kitchen(o) {
             return Some(Some(0));
         }
-        let r = self.rank[o as usize];
+        let r = self.rank.get(o);
         if r != NONE {
             return Some((r <= l).then_some(r));
         }
-        if l == 0 || self.failed[o as usize] > l || !ctx.ranks().is_derivable(o) {
+        if l == 0 || self.failed.get(o) > l || !ctx.ranks().is_derivable(o) {
             return Some(None);
         }
         None
@@ -94,12 +95,12 @@ fn dls(
             if top.cap == 0 || top.producer >= prods.len() {
                 let (o, l) = (top.obj, top.limit);
                 let r = if top.best == NONE {
-                    let f = &mut memo.failed[o as usize];
-                    *f = (*f).max(l + 1);
+                    let f = memo.failed.get(o);
+                    memo.failed.set(o, f.max(l + 1));
                     None
                 } else {
-                    memo.rank[o as usize] = top.best;
-                    memo.choice[o as usize] = top.best_fu;
+                    memo.rank.set(o, top.best);
+                    memo.choice.set(o, top.best_fu);
                     Some(top.best)
                 };
                 stack.pop();
@@ -152,9 +153,9 @@ fn dls(
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let n = ctx.foon.object_count();
     let mut memo = Memo {
-        rank: vec![NONE; n],
-        failed: vec![0; n],
-        choice: vec![NONE; n],
+        rank: ctx.id_map(n, NONE),
+        failed: ctx.id_map(n, 0),
+        choice: ctx.id_map(n, NONE),
     };
     let mut stats = Stats {
         expanded: 0,
@@ -165,7 +166,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     while dls(ctx, &mut memo, goal, limit, &mut stats)?.is_none() {
         limit = limit.saturating_mul(2);
     }
-    let units = tree::emit(ctx, goal, &memo.choice);
+    let units = tree::emit(ctx, goal, |o| memo.choice.get(o));
     Ok(Plan {
         units,
         expanded: stats.expanded,

@@ -7,6 +7,7 @@ mod forward;
 mod greedy;
 mod ids;
 mod optimal;
+mod scratch;
 mod tree;
 
 use std::str::FromStr;
@@ -260,6 +261,8 @@ pub struct Context<'a> {
     pub foon: &'a Foon,
     prep: Prep<'a>,
     cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    /// Searches keep per-object state in arrays up to this many ids, in hash maps beyond.
+    scratch_limit: usize,
 }
 
 impl std::ops::Deref for Context<'_> {
@@ -286,6 +289,7 @@ impl<'a> Context<'a> {
             foon,
             prep: Prep::Owned(Box::new(p)),
             cancel: None,
+            scratch_limit: scratch::DENSE_MAX,
         })
     }
 
@@ -300,6 +304,7 @@ impl<'a> Context<'a> {
             foon,
             prep: Prep::Borrowed(prep),
             cancel: None,
+            scratch_limit: scratch::DENSE_MAX,
         })
     }
 
@@ -309,6 +314,21 @@ impl<'a> Context<'a> {
     pub fn with_cancel(mut self, cancel: &'a (dyn Fn() -> bool + Sync)) -> Self {
         self.cancel = Some(cancel);
         self
+    }
+
+    /// Sets how many ids a search's per-object state may hold in plain arrays before it
+    /// switches to hash maps (default 32,768). Results never depend on it; tests use it to run
+    /// both forms on the same FOON.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn with_scratch_limit(mut self, ids: usize) -> Self {
+        self.scratch_limit = ids;
+        self
+    }
+
+    /// Per-search state over `len` ids (objects or FUs), all at `default`.
+    fn id_map<T: Copy + PartialEq>(&self, len: usize, default: T) -> scratch::IdMap<T> {
+        scratch::IdMap::new(len, default, self.scratch_limit)
     }
 
     #[inline]

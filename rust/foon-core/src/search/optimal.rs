@@ -4,7 +4,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use super::forward;
+use super::scratch::IdMap;
 use super::{Context, Explanation, Method, Plan, Query, tree};
 use crate::error::Result;
 use crate::index::NONE;
@@ -33,104 +33,151 @@ impl PartialOrd for Entry {
     }
 }
 
+/// The part of the FOON that can matter for a goal: the objects from which it can be reached
+/// backwards (through producers and their needed inputs, not past a leaf), and the FUs that
+/// produce one of them that is not a leaf. The cost, derivability and choice of every object
+/// in it depend on these FUs alone, so a search from the goal needs nothing else: its cost
+/// follows the goal's ancestry, not the size of the FOON.
+struct Ancestry {
+    objects: Vec<u32>,
+    fus: Vec<u32>,
+    has_object: IdMap<bool>,
+    has_fu: IdMap<bool>,
+}
+
+fn ancestry(ctx: &Context<'_>, goal: u32, is_leaf: &dyn Fn(u32) -> bool) -> Result<Ancestry> {
+    let foon = ctx.foon;
+    let mut a = Ancestry {
+        objects: vec![goal],
+        fus: Vec::new(),
+        has_object: ctx.id_map(foon.object_count(), false),
+        has_fu: ctx.id_map(foon.fu_count(), false),
+    };
+    a.has_object.set(goal, true);
+    let mut next = 0;
+    while let Some(&o) = a.objects.get(next) {
+        next += 1;
+        if next % 4096 == 0 {
+            ctx.check_stop()?;
+        }
+        if is_leaf(o) {
+            continue;
+        }
+        for &f in foon.producers(o) {
+            if a.has_fu.replace(f, true) {
+                continue;
+            }
+            a.fus.push(f);
+            for &x in ctx.needed(f) {
+                if !a.has_object.replace(x, true) {
+                    a.objects.push(x);
+                }
+            }
+        }
+    }
+    Ok(a)
+}
+
 /// Result of Knuth's algorithm: final cost and choice of every object reached.
 pub(super) struct Knuth {
-    pub(super) cost: Vec<f64>,
-    pub(super) choice: Vec<u32>,
+    pub(super) cost: IdMap<f64>,
+    pub(super) choice: IdMap<u32>,
     pub(super) expanded: u64,
     pub(super) peak: usize,
 }
 
-/// Knuth's algorithm from the kitchen (plus `extra`), with FU weight `weight` and leaf cost
-/// `leaf`. An object's choice is the lowest-index producer that set its final cost with all
-/// its needed inputs already final.
+/// Knuth's algorithm for `goal`, over its ancestry: leaves (`is_leaf`) cost `leaf`, an FU
+/// weighs `weight`. Objects are finalised in (cost, id) order until the goal is; an object's
+/// choice is the lowest-index producer that set its final cost with all its needed inputs
+/// already final. When the goal cannot be reached, every object of its ancestry that can is
+/// final at the end.
 pub(super) fn knuth(
     ctx: &Context<'_>,
-    extra: Option<&[bool]>,
+    goal: u32,
+    is_leaf: &dyn Fn(u32) -> bool,
     leaf: f64,
     weight: &dyn Fn(u32) -> Result<f64>,
-    stop_at: Option<u32>,
 ) -> Result<Knuth> {
     let foon = ctx.foon;
-    let n = foon.object_count();
-    let n_fu = foon.fu_count();
-    let mut cost = vec![f64::INFINITY; n];
-    let mut choice = vec![NONE; n];
-    let mut done = vec![false; n];
-    let mut left: Vec<u32> = (0..n_fu as u32)
-        .map(|f| ctx.needed(f).len() as u32)
-        .collect();
+    let sub = ancestry(ctx, goal, is_leaf)?;
+    let mut cost = ctx.id_map(foon.object_count(), f64::INFINITY);
+    let mut choice = ctx.id_map(foon.object_count(), NONE);
+    let mut done = ctx.id_map(foon.object_count(), false);
+    let mut left = ctx.id_map(foon.fu_count(), 0u32);
+    for &f in &sub.fus {
+        left.set(f, ctx.needed(f).len() as u32);
+    }
     let mut heap = BinaryHeap::new();
     let mut expanded = 0u64;
     let mut peak = 0usize;
-    // Leaves (the kitchen, plus `extra`) have a fixed cost: no unit may lower it.
-    let leaf_of: Vec<bool> = (0..n as u32)
-        .map(|o| ctx.in_kitchen(o) || extra.is_some_and(|e| e[o as usize]))
-        .collect();
-    for o in 0..n as u32 {
-        if leaf_of[o as usize] {
-            cost[o as usize] = leaf;
+    // Leaves have a fixed cost: no unit may lower it.
+    for &o in &sub.objects {
+        if is_leaf(o) {
+            cost.set(o, leaf);
             heap.push(Entry { cost: leaf, obj: o });
         }
     }
     let fire = |f: u32,
-                cost: &mut Vec<f64>,
-                choice: &mut Vec<u32>,
-                done: &[bool],
+                cost: &mut IdMap<f64>,
+                choice: &mut IdMap<u32>,
+                done: &IdMap<bool>,
                 heap: &mut BinaryHeap<Entry>|
      -> Result<()> {
         let mut c = weight(f)?;
         for &x in ctx.needed(f) {
-            c += cost[x as usize];
+            c += cost.get(x);
         }
         for &y in foon.outputs(f) {
-            let yi = y as usize;
-            if done[yi] || leaf_of[yi] || foon.is_bare(y) {
+            if !sub.has_object.get(y) || done.get(y) || is_leaf(y) || foon.is_bare(y) {
                 continue;
             }
+            let (old_cost, old_choice) = (cost.get(y), choice.get(y));
             // Equal costs are compared exactly on purpose: the tie goes to the lower index.
             #[allow(clippy::float_cmp)]
-            let better = c < cost[yi] || (c == cost[yi] && f < choice[yi]);
+            let better = c < old_cost || (c == old_cost && f < old_choice);
             if better {
-                if c < cost[yi] {
+                if c < old_cost {
                     heap.push(Entry { cost: c, obj: y });
                 }
-                cost[yi] = c;
-                choice[yi] = f;
+                cost.set(y, c);
+                choice.set(y, f);
             }
         }
         Ok(())
     };
-    for f in 0..n_fu as u32 {
-        if left[f as usize] == 0 {
+    for &f in &sub.fus {
+        if left.get(f) == 0 {
             fire(f, &mut cost, &mut choice, &done, &mut heap)?;
         }
     }
     while let Some(Entry { cost: c, obj: o }) = heap.pop() {
-        if done[o as usize] || c > cost[o as usize] {
+        if done.get(o) || c > cost.get(o) {
             continue;
         }
-        done[o as usize] = true;
+        done.set(o, true);
         expanded += 1;
         if expanded % 4096 == 0 {
             ctx.check_stop()?;
         }
-        if stop_at == Some(o) {
+        if o == goal {
             break;
         }
         for &f in ctx.needed_by.row(o) {
-            let l = &mut left[f as usize];
-            *l -= 1;
-            if *l == 0 {
+            if !sub.has_fu.get(f) {
+                continue;
+            }
+            let l = left.get(f) - 1;
+            left.set(f, l);
+            if l == 0 {
                 fire(f, &mut cost, &mut choice, &done, &mut heap)?;
             }
         }
         peak = peak.max(heap.len());
     }
-    for o in 0..n {
-        if !done[o] {
-            cost[o] = f64::INFINITY;
-            choice[o] = NONE;
+    for &o in &sub.objects {
+        if !done.get(o) {
+            cost.set(o, f64::INFINITY);
+            choice.set(o, NONE);
         }
     }
     Ok(Knuth {
@@ -150,8 +197,8 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         Method::OptimalUnits => (0.0, Box::new(|_| Ok(1.0))),
         _ => (1.0, Box::new(|_| Ok(0.0))),
     };
-    let k = knuth(ctx, None, leaf, &weight, Some(goal))?;
-    let c = k.cost[goal as usize];
+    let k = knuth(ctx, goal, &|o| ctx.in_kitchen(o), leaf, &weight)?;
+    let c = k.cost.get(goal);
     if !c.is_finite() {
         // Derivable, but every way to make it uses a motion of rate 0: nothing is missing and
         // no cycle blocks it, so the explanation is empty (the rates are the reason).
@@ -160,7 +207,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         p.explanation = Some(Explanation::default());
         return Ok(p);
     }
-    let units = tree::emit(ctx, goal, &k.choice);
+    let units = tree::emit(ctx, goal, |o| k.choice.get(o));
     let cost = if query.method == Method::OptimalSuccess {
         (-c).exp()
     } else {
@@ -176,19 +223,19 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
 }
 
 /// Why `goal` cannot be made: the raw items that are missing, or the blocking cycle.
+/// K' is the kitchen plus every object without a producer (a raw item).
 pub(super) fn explain(ctx: &Context<'_>, goal: u32) -> Result<Explanation> {
     let foon = ctx.foon;
-    let n = foon.object_count();
-    let raw: Vec<bool> = (0..n as u32)
-        .map(|o| foon.producers(o).is_empty())
-        .collect();
-    let k = knuth(ctx, Some(&raw), 1.0, &|_| Ok(0.0), Some(goal))?;
-    if k.cost[goal as usize].is_finite() {
-        let units = tree::emit(ctx, goal, &k.choice);
+    let raw = |o: u32| foon.producers(o).is_empty();
+    let k = knuth(ctx, goal, &|o| ctx.in_kitchen(o) || raw(o), 1.0, &|_| {
+        Ok(0.0)
+    })?;
+    if k.cost.get(goal).is_finite() {
+        let units = tree::emit(ctx, goal, |o| k.choice.get(o));
         let mut missing: Vec<u32> = units
             .iter()
             .flat_map(|&f| ctx.needed(f).iter().copied())
-            .filter(|&x| !ctx.in_kitchen(x) && raw[x as usize])
+            .filter(|&x| !ctx.in_kitchen(x) && raw(x))
             .collect();
         if units.is_empty() && !ctx.in_kitchen(goal) {
             missing.push(goal);
@@ -200,30 +247,33 @@ pub(super) fn explain(ctx: &Context<'_>, goal: u32) -> Result<Explanation> {
             ..Explanation::default()
         });
     }
-    // Blocked by cycles only: follow first producers through underivable inputs.
-    let r = forward::ranks(ctx, Some(&raw));
+    // Blocked by cycles only. The goal was never reached, so Knuth ran to the end: an object
+    // of the goal's ancestry is derivable from K' exactly when its cost is finite. Follow
+    // first producers through inputs that are not.
+    let derivable = |x: u32| k.cost.get(x).is_finite();
     let mut cycle = vec![goal];
     let mut cycle_units = Vec::new();
-    let mut pos = vec![NONE; n];
-    pos[goal as usize] = 0;
+    let mut pos = ctx.id_map(foon.object_count(), NONE);
+    pos.set(goal, 0);
     let mut o = goal;
     loop {
         let step = foon.producers(o).iter().find_map(|&f| {
             ctx.needed(f)
                 .iter()
-                .find(|&&x| !r.is_derivable(x))
+                .find(|&&x| !derivable(x))
                 .map(|&x| (f, x))
         });
         let Some((f, x)) = step else { break };
         cycle_units.push(f);
-        if pos[x as usize] != NONE {
-            let start = pos[x as usize] as usize;
+        let at = pos.get(x);
+        if at != NONE {
+            let start = at as usize;
             cycle.drain(..start);
             cycle_units.drain(..start);
             cycle.push(x);
             break;
         }
-        pos[x as usize] = cycle.len() as u32;
+        pos.set(x, cycle.len() as u32);
         cycle.push(x);
         o = x;
     }

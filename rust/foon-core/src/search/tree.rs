@@ -2,24 +2,27 @@
 //! post-order from the goal, needed inputs in input order; no call-stack recursion).
 
 use super::Context;
+use super::scratch::IdMap;
 use crate::index::NONE;
 
-pub(super) fn emit(ctx: &Context<'_>, goal: u32, choice: &[u32]) -> Vec<u32> {
+/// The tree of the choices from `goal` (`choice(o)` is the FU chosen for `o`, or `NONE`).
+pub(super) fn emit(ctx: &Context<'_>, goal: u32, choice: impl Fn(u32) -> u32) -> Vec<u32> {
     let foon = ctx.foon;
-    let mut seen = vec![false; foon.object_count()];
-    let mut emitted = vec![false; foon.fu_count()];
+    let mut seen = ctx.id_map(foon.object_count(), false);
+    let mut emitted = ctx.id_map(foon.fu_count(), false);
     let mut out = Vec::new();
     // (fu, next input position)
     let mut stack: Vec<(u32, usize)> = Vec::new();
-    let visit = |o: u32, stack: &mut Vec<(u32, usize)>, seen: &mut Vec<bool>, emitted: &[bool]| {
-        if ctx.in_kitchen(o) || std::mem::replace(&mut seen[o as usize], true) {
-            return;
-        }
-        let f = choice[o as usize];
-        if f != NONE && !emitted[f as usize] {
-            stack.push((f, 0));
-        }
-    };
+    let visit =
+        |o: u32, stack: &mut Vec<(u32, usize)>, seen: &mut IdMap<bool>, emitted: &IdMap<bool>| {
+            if ctx.in_kitchen(o) || seen.replace(o, true) {
+                return;
+            }
+            let f = choice(o);
+            if f != NONE && !emitted.get(f) {
+                stack.push((f, 0));
+            }
+        };
     visit(goal, &mut stack, &mut seen, &emitted);
     while let Some(&mut (f, ref mut i)) = stack.last_mut() {
         let ins = ctx.needed(f);
@@ -29,8 +32,7 @@ pub(super) fn emit(ctx: &Context<'_>, goal: u32, choice: &[u32]) -> Vec<u32> {
             visit(x, &mut stack, &mut seen, &emitted);
         } else {
             stack.pop();
-            if !emitted[f as usize] {
-                emitted[f as usize] = true;
+            if !emitted.replace(f, true) {
                 out.push(f);
             }
         }

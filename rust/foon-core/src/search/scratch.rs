@@ -1,0 +1,91 @@
+//! Per-search state indexed by object or FU id, sized to the work rather than to the FOON.
+//!
+//! A search from one goal usually touches a few dozen objects, however large the FOON. An
+//! array with a slot per object costs its whole length to create, on every plan; on a merged
+//! FOON of millions of objects that dwarfs the search. [`IdMap`] is an array for FOONs small
+//! enough that creating one is cheaper than hashing, and a hash map of the entries actually
+//! set otherwise, so a plan's cost follows the tree it explores.
+
+use rustc_hash::FxHashMap;
+
+/// Id spaces up to this many entries use an array (creating it is a short `memset`); larger
+/// ones a hash map.
+pub(crate) const DENSE_MAX: usize = 1 << 15;
+
+/// A map from ids in `0..len` to `T`, every id starting at `default`.
+pub(crate) enum IdMap<T: Copy + PartialEq> {
+    Dense(Vec<T>),
+    Sparse { map: FxHashMap<u32, T>, default: T },
+}
+
+impl<T: Copy + PartialEq> IdMap<T> {
+    /// A map over `len` ids, all at `default`: an array when `len <= dense_max`, else a hash
+    /// map.
+    pub(crate) fn new(len: usize, default: T, dense_max: usize) -> Self {
+        if len <= dense_max {
+            Self::Dense(vec![default; len])
+        } else {
+            Self::Sparse {
+                map: FxHashMap::default(),
+                default,
+            }
+        }
+    }
+
+    #[inline]
+    pub(crate) fn get(&self, id: u32) -> T {
+        match self {
+            Self::Dense(v) => v[id as usize],
+            Self::Sparse { map, default } => map.get(&id).copied().unwrap_or(*default),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn set(&mut self, id: u32, value: T) {
+        match self {
+            Self::Dense(v) => v[id as usize] = value,
+            Self::Sparse { map, default } => {
+                if value == *default {
+                    map.remove(&id);
+                } else {
+                    map.insert(id, value);
+                }
+            }
+        }
+    }
+
+    /// Sets `id` to `value` and returns what it was.
+    #[inline]
+    pub(crate) fn replace(&mut self, id: u32, value: T) -> T {
+        let old = self.get(id);
+        if old != value {
+            self.set(id, value);
+        }
+        old
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::IdMap;
+
+    #[test]
+    fn dense_and_sparse_agree() {
+        let mut dense = IdMap::new(100, 7u32, 100);
+        let mut sparse = IdMap::new(100, 7u32, 10);
+        assert!(matches!(dense, IdMap::Dense(_)));
+        assert!(matches!(sparse, IdMap::Sparse { .. }));
+        for (i, v) in [(3, 1), (99, 7), (3, 7), (50, 2), (0, 0)] {
+            assert_eq!(dense.replace(i, v), sparse.replace(i, v));
+        }
+        for i in 0..100 {
+            assert_eq!(dense.get(i), sparse.get(i), "{i}");
+        }
+        assert_eq!(sparse.get(3), 7);
+        assert_eq!(sparse.get(50), 2);
+        if let IdMap::Sparse { map, .. } = &sparse {
+            // Entries set back to the default are not kept.
+            assert_eq!(map.len(), 2);
+        }
+    }
+}
