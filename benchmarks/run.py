@@ -11,12 +11,14 @@ import argparse
 import json
 import os
 import platform
+import re
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -64,6 +66,12 @@ def bench_parse(data: Path, repeat: int) -> None:
           f"| {dict_py / rust:,.0f}x |")
 
 
+PLAN_CASES: list[tuple[str, str | None]] = [
+    ("bfs", "course"), ("greedy-success", "course"), ("greedy-inputs", "course"),
+    ("ids", None), ("greedy-success", None), ("greedy-inputs", None),
+    ("optimal-success", None), ("optimal-units", None), ("optimal-inputs", None)]
+
+
 def bench_plan(data: Path, repeat: int) -> None:
     f = foon.load(data / "FOON.txt")
     kitchen = foon.Kitchen.load(data / "kitchen.json")
@@ -74,9 +82,7 @@ def bench_plan(data: Path, repeat: int) -> None:
     rk = ref.read_kitchen_json((data / "kitchen.json").read_text())
     ru = ref.read_utensils((data / "utensils.txt").read_text())
     rr = ref.read_rates((data / "motion.txt").read_text())
-    cases = [("bfs", "course"), ("greedy-success", "course"), ("greedy-inputs", "course"),
-             ("ids", None), ("greedy-success", None), ("greedy-inputs", None),
-             ("optimal-success", None), ("optimal-units", None), ("optimal-inputs", None)]
+    cases = PLAN_CASES
     n = len(goals)
     cores = os.cpu_count() or 1
     prep = timeit(lambda: f.planner(kitchen, motions=motions, utensils=utensils), repeat)
@@ -96,15 +102,42 @@ def bench_plan(data: Path, repeat: int) -> None:
         allc = timeit(lambda: planner.plan_many(ids, method, compat=compat), repeat)  # type: ignore[arg-type]
         batch = timeit(lambda: planner.plan_many(big, method, compat=compat), max(1, repeat // 2))  # type: ignore[arg-type]
         name = f"{method}" + (" (course)" if compat else "")
-        if method.startswith("optimal"):
-            py = None
-        else:
-            py = timeit(lambda: [ref.plan(rf, g.identity(), rk, ru, rr, method, compat)
-                                 for g in goals], 1)
-        pys = f"{n / py:,.0f}" if py else "n/a"
-        ratio = f"{py / one:,.0f}x" if py else "n/a"
-        print(f"| {name} | {n / one:,.0f} | {n / allc:,.0f} | {len(big) / batch:,.0f} | {pys} "
-              f"| {ratio} |")
+        py = timeit(lambda: [ref.plan(rf, g.identity(), rk, ru, rr, method, compat)
+                             for g in goals], 1)
+        print(f"| {name} | {n / one:,.0f} | {n / allc:,.0f} | {len(big) / batch:,.0f} "
+              f"| {n / py:,.0f} | {py / one:,.0f}x |")
+
+
+def bench_foon_size(data: Path, copies: int, repeat: int) -> None:
+    """The 25 course goals planned on the course FOON and on a FOON made of it and copies-1
+    renamed copies of it (labels suffixed, so the copies share nothing with the kitchen or the
+    goals): the same trees, so any difference is what the size of the FOON costs a plan."""
+    text = (data / "FOON.txt").read_text(encoding="utf-8")
+    big = text + "".join(re.sub(r"^O\t(.*)$", rf"O\t\1 copy{k}", text, flags=re.M)
+                         for k in range(1, copies))  # fmt: skip
+    small_foon, big_foon = foon.Foon.from_text(text), foon.Foon.from_text(big)
+    kitchen = foon.Kitchen.load(data / "kitchen.json")
+    motions = foon.MotionRates.load(data / "motion.txt")
+    utensils = foon.load_utensils(data / "utensils.txt")
+    goals = [foon.Object.from_dict(d) for d in json.loads((data / "goal_nodes_25.json").read_text())]
+    planners = []
+    for f in (small_foon, big_foon):
+        p = f.planner(kitchen, motions=motions, utensils=utensils)
+        planners.append((p, [f.goal_id(g) for g in goals]))
+    print(f"\n### Plans per second and the size of the FOON: the course FOON and {copies} copies "
+          f"of it ({small_foon.object_count:,} and {big_foon.object_count:,} objects)\n")
+    print("| method | course FOON, 1 thread | "
+          f"{copies} copies, 1 thread | ratio |")
+    print("|---|---:|---:|---:|")
+    for method, compat in PLAN_CASES:
+        trees = [[t.units for t in p.plan_many(ids, method, compat=compat)]  # type: ignore[arg-type]
+                 for p, ids in planners]
+        assert trees[0] == trees[1], method  # the same trees on both FOONs
+        rates = [len(ids) / timeit(partial(p.plan_many, ids, method, compat=compat, threads=1),
+                                   repeat)
+                 for p, ids in planners]  # fmt: skip
+        name = f"{method}" + (" (course)" if compat else "")
+        print(f"| {name} | {rates[0]:,.0f} | {rates[1]:,.0f} | {rates[0] / rates[1]:.2f}x |")
 
 
 def chain_text(n: int) -> str:
@@ -217,7 +250,9 @@ def main() -> None:
     p.add_argument("--data", type=Path,
                    default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
-    p.add_argument("--only", choices=["parse", "plan", "scale", "memory"])
+    p.add_argument("--only", choices=["parse", "plan", "size", "scale", "memory"])
+    p.add_argument("--copies", type=int, default=100,
+                   help="copies of the course FOON in the FOON-size section")
     p.add_argument("--chain", type=int, default=300_000, help="units in the scaling chain")
     p.add_argument("--small-chain", type=int, default=2_000,
                    help="units in the chain planned side by side with the reference")
@@ -228,6 +263,8 @@ def main() -> None:
         bench_parse(a.data, a.repeat)
     if a.only in (None, "plan"):
         bench_plan(a.data, a.repeat)
+    if a.only in (None, "size"):
+        bench_foon_size(a.data, a.copies, a.repeat)
     if a.only in (None, "scale"):
         bench_scale(a.chain, a.small_chain, a.repeat)
     if a.only in (None, "memory"):
