@@ -75,6 +75,32 @@ fn foon_text() -> impl Strategy<Value = String> {
     })
 }
 
+/// The FOON of `text`, with the objects that `kmask` picks (cyclically, by id) as the
+/// kitchen, the utensils and the motion rates.
+fn planning_inputs(
+    text: &str,
+    kmask: &[bool],
+) -> (
+    foon_core::Foon,
+    Vec<ObjectSpec>,
+    Vec<String>,
+    foon_core::MotionRates,
+) {
+    let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+    let kitchen: Vec<ObjectSpec> = (0..foon.object_count() as u32)
+        .filter(|&o| kmask[o as usize % kmask.len()])
+        .map(|o| ObjectSpec::of_object(&foon, o))
+        .collect();
+    let utensils: Vec<String> = UTENSILS.iter().map(|s| (*s).to_owned()).collect();
+    let rates = foon_core::MotionRates::from_pairs([
+        ("pour".to_owned(), 0.9),
+        ("mix".to_owned(), 0.5),
+        ("heat".to_owned(), 0.7),
+    ])
+    .unwrap();
+    (foon, kitchen, utensils, rates)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 400, .. ProptestConfig::default() })]
 
@@ -95,15 +121,9 @@ proptest! {
 
     #[test]
     fn sound_methods_are_valid_or_explained(text in foon_text(), kmask in prop::collection::vec(any::<bool>(), 64), goal_pick in any::<prop::sample::Index>()) {
-        let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+        let (foon, kitchen, utensils, rates) = planning_inputs(&text, &kmask);
         let n = foon.object_count();
         prop_assume!(n > 0);
-        let kitchen: Vec<ObjectSpec> = (0..n as u32)
-            .filter(|&o| kmask[o as usize % kmask.len()])
-            .map(|o| ObjectSpec::of_object(&foon, o))
-            .collect();
-        let utensils: Vec<String> = UTENSILS.iter().map(|s| (*s).to_owned()).collect();
-        let rates = foon_core::MotionRates::from_pairs([("pour".to_owned(), 0.9), ("mix".to_owned(), 0.5), ("heat".to_owned(), 0.7)]).unwrap();
         let ctx = Context::new(&foon, &kitchen, &utensils, Some(&rates), None).unwrap();
         let goal = goal_pick.index(n) as u32;
         let rank = ctx.ranks().rank(goal);
@@ -135,15 +155,9 @@ proptest! {
     fn sparse_search_state_gives_the_same_plans(text in foon_text(), kmask in prop::collection::vec(any::<bool>(), 64), goal_pick in any::<prop::sample::Index>()) {
         // Searches keep their per-object state in arrays on small FOONs and in hash maps on
         // large ones; forcing the hash maps on a small FOON must change nothing.
-        let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+        let (foon, kitchen, utensils, rates) = planning_inputs(&text, &kmask);
         let n = foon.object_count();
         prop_assume!(n > 0);
-        let kitchen: Vec<ObjectSpec> = (0..n as u32)
-            .filter(|&o| kmask[o as usize % kmask.len()])
-            .map(|o| ObjectSpec::of_object(&foon, o))
-            .collect();
-        let utensils: Vec<String> = UTENSILS.iter().map(|s| (*s).to_owned()).collect();
-        let rates = foon_core::MotionRates::from_pairs([("pour".to_owned(), 0.9), ("mix".to_owned(), 0.5), ("heat".to_owned(), 0.7)]).unwrap();
         let dense = Context::new(&foon, &kitchen, &utensils, Some(&rates), None).unwrap();
         let sparse = Context::new(&foon, &kitchen, &utensils, Some(&rates), None).unwrap().with_scratch_limit(0);
         let goal = goal_pick.index(n) as u32;
