@@ -2,7 +2,8 @@
 //! with containers, ingredients and cycles, a kitchen, a goal; the utensil `l0` triggers the
 //! container rule; the motion `m2` has rate 0). Checks: no panic; `ids` and the optimal
 //! methods solve exactly the derivable goals; `ids` returns a tree of height rank(goal); every
-//! solved sound plan is a valid tree listed in execution order.
+//! solved sound plan is a valid tree listed in execution order; searches that keep their state
+//! in hash maps (as on large FOONs) give exactly the same results as with arrays.
 
 #![no_main]
 
@@ -12,7 +13,7 @@ mod common;
 use std::fmt::Write as _;
 
 use foon_core::companion::MotionRates;
-use foon_core::search::{Compat, Context, Count, Method, Query};
+use foon_core::search::{Compat, Context, Count, Method, Plan, Query};
 use foon_core::{ObjectSpec, ParseOptions, parse_foon};
 use libfuzzer_sys::fuzz_target;
 
@@ -73,6 +74,9 @@ fuzz_target!(|data: &[u8]| {
     .unwrap();
     let utensils = vec!["l0".to_owned()];
     let ctx = Context::new(&foon, &kitchen, &utensils, Some(&rates), None).unwrap();
+    let sparse = Context::new(&foon, &kitchen, &utensils, Some(&rates), None)
+        .unwrap()
+        .with_scratch_limit(0);
     let rank = ctx.ranks().rank(goal);
     for method in Method::ALL {
         for compat in [Compat::Sound, Compat::Course] {
@@ -82,7 +86,23 @@ fuzz_target!(|data: &[u8]| {
                     compat,
                     count,
                 };
-                let Ok(plan) = ctx.plan(goal, query) else {
+                let result = ctx.plan(goal, query);
+                match (&result, &sparse.plan(goal, query)) {
+                    (Ok(a), Ok(b)) => assert_eq!(
+                        Plan {
+                            seconds: 0.0,
+                            ..a.clone()
+                        },
+                        Plan {
+                            seconds: 0.0,
+                            ..b.clone()
+                        },
+                        "{query:?}: array and hash-map search state disagree\n{text}"
+                    ),
+                    (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+                    _ => panic!("{query:?}: array and hash-map search state disagree\n{text}"),
+                }
+                let Ok(plan) = result else {
                     continue;
                 };
                 if compat == Compat::Course || method == Method::Bfs {

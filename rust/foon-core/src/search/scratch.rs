@@ -3,8 +3,11 @@
 //! A search from one goal usually touches a few dozen objects, however large the FOON. An
 //! array with a slot per object costs its whole length to create, on every plan; on a merged
 //! FOON of millions of objects that dwarfs the search. [`IdMap`] is an array for FOONs small
-//! enough that creating one is cheaper than hashing, and a hash map of the entries actually
-//! set otherwise, so a plan's cost follows the tree it explores.
+//! enough that creating one is cheaper than hashing, and otherwise a hash map of the entries
+//! actually set, which becomes an array once it holds a sixteenth of the ids (a search that
+//! covers much of the FOON, such as a plan to the end of a long chain, then runs at array
+//! speed; the switch costs at most sixteen times the work already done). A plan's cost thus
+//! follows the tree it explores.
 
 use rustc_hash::FxHashMap;
 
@@ -15,8 +18,15 @@ pub(crate) const DENSE_MAX: usize = 1 << 15;
 /// A map from ids in `0..len` to `T`, every id starting at `default`.
 pub(crate) enum IdMap<T: Copy + PartialEq> {
     Dense(Vec<T>),
-    Sparse { map: FxHashMap<u32, T>, default: T },
+    Sparse {
+        map: FxHashMap<u32, T>,
+        default: T,
+        len: usize,
+    },
 }
+
+/// A hash map holding more than `len / SPARSE_SHARE` entries becomes an array.
+const SPARSE_SHARE: usize = 16;
 
 impl<T: Copy + PartialEq> IdMap<T> {
     /// A map over `len` ids, all at `default`: an array when `len <= dense_max`, else a hash
@@ -28,6 +38,7 @@ impl<T: Copy + PartialEq> IdMap<T> {
             Self::Sparse {
                 map: FxHashMap::default(),
                 default,
+                len,
             }
         }
     }
@@ -36,7 +47,7 @@ impl<T: Copy + PartialEq> IdMap<T> {
     pub(crate) fn get(&self, id: u32) -> T {
         match self {
             Self::Dense(v) => v[id as usize],
-            Self::Sparse { map, default } => map.get(&id).copied().unwrap_or(*default),
+            Self::Sparse { map, default, .. } => map.get(&id).copied().unwrap_or(*default),
         }
     }
 
@@ -44,11 +55,15 @@ impl<T: Copy + PartialEq> IdMap<T> {
     pub(crate) fn set(&mut self, id: u32, value: T) {
         match self {
             Self::Dense(v) => v[id as usize] = value,
-            Self::Sparse { map, default } => {
+            Self::Sparse { map, default, len } => {
                 if value == *default {
                     map.remove(&id);
-                } else {
-                    map.insert(id, value);
+                } else if map.insert(id, value).is_none() && map.len() * SPARSE_SHARE > *len {
+                    let mut dense = vec![*default; *len];
+                    for (&i, &v) in map.iter() {
+                        dense[i as usize] = v;
+                    }
+                    *self = Self::Dense(dense);
                 }
             }
         }
@@ -87,5 +102,21 @@ mod tests {
             // Entries set back to the default are not kept.
             assert_eq!(map.len(), 2);
         }
+    }
+
+    #[test]
+    fn a_full_hash_map_becomes_an_array_with_its_entries() {
+        let mut m = IdMap::new(160, 0u32, 10);
+        for i in 0..10 {
+            m.set(i * 3, i + 1);
+        }
+        assert!(matches!(m, IdMap::Sparse { .. }));
+        m.set(100, 42); // the 11th entry: more than 160 / 16
+        assert!(matches!(m, IdMap::Dense(_)));
+        for i in 0..10 {
+            assert_eq!(m.get(i * 3), i + 1);
+            assert_eq!(m.get(i * 3 + 1), 0);
+        }
+        assert_eq!(m.get(100), 42);
     }
 }
