@@ -13,7 +13,6 @@ import os
 import platform
 import re
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -27,6 +26,7 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 
 import course_parser  # noqa: E402
 import foon_reference as ref  # noqa: E402
+from workloads import can_measure_memory, chain_text, load_memory  # noqa: E402
 
 import foon  # noqa: E402
 
@@ -140,11 +140,6 @@ def bench_foon_size(data: Path, copies: int, repeat: int) -> None:
         print(f"| {name} | {rates[0]:,.0f} | {rates[1]:,.0f} | {rates[0] / rates[1]:.2f}x |")
 
 
-def chain_text(n: int) -> str:
-    return "".join(f"O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{i + 1}\n//\n"
-                   for i in range(n))
-
-
 SCALE_METHODS = (("bfs", "course"), ("ids", None), ("greedy-inputs", None), ("optimal-units", None))
 
 
@@ -186,42 +181,9 @@ def bench_scale(n: int, small: int, repeat: int) -> None:
         print(f"| {method}{' (course)' if compat else ''} | {fmt(t)} | {fmt(r)} | {r / t:,.0f}x |")
 
 
-#: Run in a fresh interpreter: loads argv[2] with foon ("foon") or the pure-Python reference
-#: ("reference") and prints the index bytes (foon only, else 0) and the peak resident memory
-#: the load added, in bytes (after a warm-up load of a tiny FOON by the same code).
-MEASURE_MEMORY = """
-import sys
-sys.path.insert(0, sys.argv[3])
-import foon, foon_reference as ref
-def status(key):  # bytes; VmHWM is the peak of this process only (ru_maxrss can be the parent's)
-    with open("/proc/self/status") as fh:
-        return 1024 * next(int(l.split()[1]) for l in fh if l.startswith(key + ":"))
-tiny = "O\\ta\\nM\\tm\\nO\\tb\\nS\\tx\\n//\\n"
-if sys.argv[1] == "foon":
-    foon.Foon.from_text(tiny)
-    base = status("VmRSS")
-    index = foon.load(sys.argv[2]).stats()["index_bytes"]
-else:
-    ref.parse(tiny)
-    base = status("VmRSS")
-    with open(sys.argv[2], encoding="utf-8") as fh:
-        ref.parse(fh.read())
-    index = 0
-print(index, status("VmHWM") - base)
-"""
-
-
-def load_memory(which: str, path: Path) -> tuple[int, int]:
-    """(index bytes, peak bytes added) of loading `path` in a fresh interpreter."""
-    out = subprocess.run([sys.executable, "-c", MEASURE_MEMORY, which, str(path),
-                          str(HERE.parent / "tests")], capture_output=True, text=True,
-                         check=True).stdout.split()  # fmt: skip
-    return int(out[0]), int(out[1])
-
-
 def bench_memory(data: Path, n: int) -> None:
     """Peak memory of loading a file, against its size, for foon and the reference parser."""
-    if not Path("/proc/self/status").exists():
+    if not can_measure_memory():
         print("\n(memory: needs /proc, skipped)")
         return
     biggest = max((data / "lab_history").glob("*.txt"), key=lambda q: q.stat().st_size)

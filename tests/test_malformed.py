@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import json
 import re
-import subprocess
-import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -22,6 +20,7 @@ import pytest
 import foon
 import foon.cli
 from foon import _foon
+from workloads import can_measure_memory, chain_text, load_memory
 
 HERE = Path(__file__).resolve().parent / "malformed"
 CASES: list[dict[str, Any]] = json.loads((HERE / "cases.json").read_text(encoding="utf-8"))
@@ -231,9 +230,7 @@ DEPTH = 1_000_000
 @pytest.fixture(scope="module")
 def chain() -> foon.Foon:
     # o0 -> o1 -> ... -> o1000000, one unit each; parsed and planned without recursion.
-    text = "".join(
-        f"O\titem\nS\tstep{i}\nM\tstep\nO\titem\nS\tstep{i + 1}\n//\n" for i in range(DEPTH))
-    f = foon.Foon.from_text(text)
+    f = foon.Foon.from_text(chain_text(DEPTH))
     assert f.fu_count == DEPTH and f.object_count == DEPTH + 1
     return f
 
@@ -247,8 +244,8 @@ def chain() -> foon.Foon:
 ])
 def test_deep_chain_plans_without_crashing(chain: foon.Foon, method: str,
                                            options: dict[str, Any]) -> None:
-    kitchen = foon.Kitchen([foon.Object("item", ("step0",))])
-    goal = foon.Object("item", (f"step{DEPTH}",))
+    kitchen = foon.Kitchen([foon.Object("item", ("s0",))])
+    goal = foon.Object("item", (f"s{DEPTH}",))
     t = chain.plan(goal, kitchen, method, **options)
     assert t.solved
     assert t.fu_count == DEPTH
@@ -264,29 +261,7 @@ def test_deep_chain_plans_without_crashing(chain: foon.Foon, method: str,
 
 # --- memory ----------------------------------------------------------------------------------
 
-#: Loads a FOON file in a fresh interpreter and prints its size, the index's bytes and the peak
-#: resident memory that loading added (kB), read from /proc.
-MEASURE = """
-import os, sys
-import foon
-def status_kb(key):  # VmHWM is the peak of this process only (ru_maxrss can be the parent's)
-    with open("/proc/self/status") as fh:
-        return next(int(l.split()[1]) for l in fh if l.startswith(key + ":"))
-foon.example()  # code pages and allocator arenas that any first load brings in
-base = status_kb("VmRSS")
-f = foon.load(sys.argv[1])
-print(os.path.getsize(sys.argv[1]), f.stats()["index_bytes"], status_kb("VmHWM") - base)
-"""
-
-
-def _chain_file(path: Path, n: int) -> Path:
-    with path.open("w") as fh:
-        for i in range(n):
-            fh.write(f"O\titem\nS\tstep{i}\nM\tstep\nO\titem\nS\tstep{i + 1}\n//\n")
-    return path
-
-
-@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs /proc (Linux)")
+@pytest.mark.skipif(not can_measure_memory(), reason="needs /proc (Linux)")
 def test_memory_is_proportional_to_the_input(tmp_path: Path) -> None:
     """Loading a chain (every object distinct: the most index per byte of text) takes memory
     in proportion to the file. From 40,000 to 400,000 units, each added byte of input adds at
@@ -294,11 +269,10 @@ def test_memory_is_proportional_to_the_input(tmp_path: Path) -> None:
     builder's tables), and the larger load stays within those bounds as a whole."""
     measured = []
     for n in (40_000, 400_000):
-        path = _chain_file(tmp_path / f"chain{n}.foon", n)
-        p = subprocess.run([sys.executable, "-c", MEASURE, str(path)], capture_output=True,
-                           text=True, timeout=300, check=True)  # fmt: skip
-        size, index_bytes, peak_kb = (int(x) for x in p.stdout.split())
-        measured.append((size, index_bytes, peak_kb * 1024))
+        path = tmp_path / f"chain{n}.foon"
+        path.write_text(chain_text(n))
+        index_bytes, peak = load_memory("foon", path)
+        measured.append((path.stat().st_size, index_bytes, peak))
     (size0, index0, peak0), (size1, index1, peak1) = measured
     assert index1 - index0 <= 3 * (size1 - size0), measured
     assert peak1 - peak0 <= 6 * (size1 - size0), measured
