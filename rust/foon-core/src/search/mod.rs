@@ -2,6 +2,7 @@
 //! immutable [`Context`] (no global state), so many goals can be planned in parallel.
 //! The exact definitions are in `docs/METHODS.md`.
 
+pub mod batch;
 mod course;
 mod forward;
 mod greedy;
