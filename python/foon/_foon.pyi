@@ -1,36 +1,53 @@
 """Private native module (Rust, PyO3). Use the public API in ``foon`` instead."""
 
 import os
+from collections.abc import Iterable
 from typing import Any, final
 
 __all__ = [
     "Foon",
-    "Plan",
-    "Planner",
-    "check",
-    "load_objects",
-    "load_rates",
-    "load_utensils",
-    "methods",
-    "parse_objects",
-    "parse_rates",
-    "parse_utensils",
     "FoonError",
     "GoalNotFoundError",
     "MissingRateError",
     "ParseError",
+    "Plan",
+    "Planner",
     "__version__",
+    "check",
+    "check_rates",
+    "load_objects",
+    "load_rates",
+    "load_utensils",
+    "max_threads",
+    "methods",
+    "object_fields",
+    "object_fields_of_mapping",
+    "parse_objects",
+    "parse_rates",
+    "parse_utensils",
 ]
 
 __version__: str
 
 _Obj = tuple[str, list[str], list[str], str | None]
-_Path = str | os.PathLike[str]
+_Fields = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
+_Path = str | bytes | os.PathLike[str] | os.PathLike[bytes]
 
 class FoonError(Exception): ...
-class ParseError(FoonError): ...
+
+class ParseError(FoonError):
+    """An input file is malformed; `path`, `line`, `column` and `reason` say where and why."""
+
+    path: str | None
+    line: int
+    column: int
+    reason: str
+    kind: str
+
 class GoalNotFoundError(FoonError): ...
-class MissingRateError(FoonError): ...
+
+class MissingRateError(FoonError):
+    motion: str
 
 @final
 class Foon:
@@ -40,6 +57,14 @@ class Foon:
     def from_text(
         text: str | bytes, *, strict: bool = False, path: _Path | None = None
     ) -> Foon: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> Foon: ...
+    def __reduce__(self) -> tuple[Any, ...]: ...
+    def __copy__(self) -> Foon: ...
+    def __deepcopy__(self, memo: Any, /) -> Foon: ...
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
     @property
     def fu_count(self) -> int: ...
     @property
@@ -57,6 +82,7 @@ class Foon:
     def find(
         self, label: str, states: list[str], ingredients: list[str], container: str | None
     ) -> int | None: ...
+    def goal_id(self, goal: int | str | _Fields) -> int: ...
     def objects_with_label(self, label: str) -> list[int]: ...
     def producers(self, o: int) -> list[int]: ...
     def consumers(self, o: int) -> list[int]: ...
@@ -100,6 +126,12 @@ class Plan:
     def peak_frontier(self) -> int: ...
     @property
     def seconds(self) -> float: ...
+    @property
+    def unrated(self) -> int | None: ...
+    def __eq__(self, other: object, /) -> bool: ...
+    def __reduce__(self) -> tuple[Any, ...]: ...
+    @staticmethod
+    def _from_state(state: tuple[Any, ...]) -> Plan: ...
 
 @final
 class Planner:
@@ -113,20 +145,30 @@ class Planner:
     ) -> Planner: ...
     def plan(
         self, goals: list[int], method: str, compat: str, count: str, threads: int | None = None
-    ) -> list[Plan]: ...
+    ) -> list[Plan]:
+        """Plans every goal in order on `threads` worker threads: always honoured, capped to
+        the available parallelism (`max_threads()`) and to the number of goals; None means
+        the FOON_THREADS environment variable, else all cores."""
     def check_tree(
         self, units: list[int], goal: int
     ) -> tuple[bool, int | None, tuple[int, list[int]] | None]: ...
     def ranks(self) -> list[int | None]: ...
     def kitchen_objects(self) -> list[int]: ...
 
+def object_fields(
+    label: str, states: Iterable[str], ingredients: Iterable[str], container: str | None
+) -> _Fields: ...
+def object_fields_of_mapping(d: Any) -> _Fields: ...
 def load_objects(path: _Path, kind: str) -> list[_Obj]: ...
 def parse_objects(text: str | bytes, kind: str, path: _Path | None = None) -> list[_Obj]: ...
 def load_rates(path: _Path) -> list[tuple[str, float]]: ...
 def parse_rates(text: str | bytes, path: _Path | None = None) -> list[tuple[str, float]]: ...
+def check_rates(pairs: list[tuple[str, float]]) -> list[tuple[str, float]]: ...
 def load_utensils(path: _Path) -> list[str]: ...
 def parse_utensils(text: str | bytes, path: _Path | None = None) -> list[str]: ...
 def methods() -> list[str]: ...
+def max_threads() -> int:
+    """The cap on worker threads: the available parallelism of this process."""
 def check(
     paths: list[_Path],
     kitchen: list[_Obj] | None = None,

@@ -1,4 +1,8 @@
-//! Error mapping: core errors become typed Python exceptions, in one place.
+//! Error mapping and the one way into the core for heavy calls ([`enter`]).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, PoisonError};
+use std::time::Duration;
 
 use pyo3::exceptions::{
     PyException, PyFileNotFoundError, PyKeyboardInterrupt, PyOSError, PyPermissionError,
@@ -72,10 +76,74 @@ impl From<PyFoonErr> for PyErr {
     }
 }
 
-/// Runs core work with the interpreter detached and maps its error.
-pub(crate) fn run_detached<T: Send>(
+/// The cancel callback [`enter`] hands to the work: true once Ctrl-C was pressed.
+pub(crate) type Cancel<'a> = &'a (dyn Fn() -> bool + Sync);
+
+/// How often the waiting thread looks at Python's signals.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Runs heavy core work the one way every call does: with the interpreter detached, on a
+/// worker thread, while the calling thread looks at Python's signals every 20 ms. A signal
+/// whose handler raises (Ctrl-C) turns the `cancel` callback given to the work true; the
+/// work stops at its next check with `Error::Cancelled`, and the handler's exception
+/// (`KeyboardInterrupt`) is what the call raises, even when the work finished anyway. Core
+/// errors become typed Python exceptions; a panic becomes `PanicException`.
+#[allow(clippy::redundant_closure_for_method_calls)] // `Python::check_signals` is not general enough
+pub(crate) fn enter<T: Send>(
     py: Python<'_>,
-    f: impl FnOnce() -> Result<T, foon_core::Error> + Send,
+    work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
 ) -> PyResult<T> {
-    py.detach(f).map_err(|e| PyErr::from(PyFoonErr(e)))
+    let stop = AtomicBool::new(false);
+    let done = AtomicBool::new(false);
+    let work = Mutex::new(Some(work));
+    let take = || work.lock().unwrap_or_else(PoisonError::into_inner).take();
+    let mut raised: Option<PyErr> = None;
+    let outcome = py.detach(|| {
+        let caller = std::thread::current();
+        let stopped = || stop.load(Ordering::Relaxed);
+        std::thread::scope(|s| {
+            let spawned = std::thread::Builder::new()
+                .name("foon-call".into())
+                .spawn_scoped(s, || {
+                    let r = take().map(|w| w(&stopped));
+                    done.store(true, Ordering::Release);
+                    caller.unpark();
+                    r
+                });
+            let Ok(handle) = spawned else {
+                // No thread to spare: run the work here, without watching for Ctrl-C.
+                return Ok(take().map(|w| w(&|| false)));
+            };
+            while !done.load(Ordering::Acquire) {
+                std::thread::park_timeout(POLL);
+                if done.load(Ordering::Acquire) || raised.is_some() {
+                    continue;
+                }
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    raised = Some(e);
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+            handle.join()
+        })
+    });
+    if let Some(e) = raised {
+        return Err(e);
+    }
+    match outcome {
+        Ok(Some(r)) => r.map_err(|e| PyErr::from(PyFoonErr(e))),
+        Ok(None) => Err(pyo3::panic::PanicException::new_err(
+            "internal error in foon: the work of a call ran twice",
+        )),
+        Err(p) => {
+            let what = p
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_owned());
+            Err(pyo3::panic::PanicException::new_err(format!(
+                "internal error in foon: {what}"
+            )))
+        }
+    }
 }

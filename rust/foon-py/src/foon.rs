@@ -1,0 +1,365 @@
+//! `foon._foon.Foon`: a parsed FOON, immutable and shared between threads.
+
+use std::hash::{Hash, Hasher};
+use std::sync::{Arc, OnceLock};
+
+use foon_core::companion::ObjectSpec;
+use foon_core::{ParseOptions, verify, write};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict, PyString, PyTuple};
+
+use crate::convert::{
+    ObjTuple, fu_index, location, object_index, opt_path_arg, path_arg, spec_of, specs_of,
+    text_bytes, tuple_of,
+};
+use crate::errors::{Cancel, GoalNotFoundError, PyFoonErr, enter};
+use crate::serial;
+
+/// Reads a FOON file. `cancel` is the hook for a loader that polls it; the core's loader
+/// reads the whole file in one go.
+fn load_foon(
+    path: &std::path::Path,
+    opts: ParseOptions,
+    _cancel: Cancel<'_>,
+) -> foon_core::Result<foon_core::Foon> {
+    foon_core::load_foon(path, opts)
+}
+
+/// Parses FOON text (see [`load_foon`] for `cancel`).
+fn parse_foon(
+    data: &[u8],
+    path: Option<&std::path::Path>,
+    opts: ParseOptions,
+    _cancel: Cancel<'_>,
+) -> foon_core::Result<foon_core::Foon> {
+    foon_core::parse_foon(data, path, opts)
+}
+
+/// A parsed FOON (immutable; safe to share between threads).
+#[pyclass(frozen, module = "foon._foon", name = "Foon")]
+pub(crate) struct PyFoon {
+    pub(crate) inner: Arc<foon_core::Foon>,
+    /// A hash of the serialised form, computed on first use.
+    fingerprint: OnceLock<u64>,
+}
+
+impl PyFoon {
+    pub(crate) fn new(foon: foon_core::Foon) -> Self {
+        Self {
+            inner: Arc::new(foon),
+            fingerprint: OnceLock::new(),
+        }
+    }
+
+    fn fingerprint(&self) -> u64 {
+        *self.fingerprint.get_or_init(|| {
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            serial::encode(&self.inner).hash(&mut h);
+            h.finish()
+        })
+    }
+}
+
+/// Dropped duplicate units: (line of the dropped copy, index of the kept one).
+type Duplicate = (u32, u32);
+
+/// A load warning: (path, line, column, kind, message).
+type WarningTuple = (Option<String>, u64, u32, &'static str, String);
+
+#[pymethods]
+impl PyFoon {
+    /// Reads and parses a FOON file (any dialect).
+    #[staticmethod]
+    #[pyo3(signature = (path, *, strict = false))]
+    fn load(py: Python<'_>, path: &Bound<'_, PyAny>, strict: bool) -> PyResult<Self> {
+        let path = path_arg("path", path)?;
+        let foon = enter(py, |cancel| {
+            load_foon(&path, ParseOptions { strict }, cancel)
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    /// Parses FOON text (`str` or `bytes`); `path` only names the source in messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, *, strict = false, path = None))]
+    fn from_text(
+        py: Python<'_>,
+        text: &Bound<'_, PyAny>,
+        strict: bool,
+        path: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let data = text_bytes("text", text)?;
+        let path = opt_path_arg("path", path)?;
+        let foon = enter(py, |cancel| {
+            parse_foon(&data, path.as_deref(), ParseOptions { strict }, cancel)
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    /// The stable serialised form (what pickling stores).
+    fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let foon = &self.inner;
+        let data = enter(py, |_| Ok(serial::encode(foon)))?;
+        Ok(PyBytes::new(py, &data))
+    }
+
+    /// Rebuilds a FOON from [`to_bytes`]'s output.
+    #[staticmethod]
+    fn from_bytes(py: Python<'_>, data: &Bound<'_, PyBytes>) -> PyResult<Self> {
+        let data = data.as_bytes().to_vec();
+        let foon = enter(py, |_| {
+            serial::decode(&data)
+                .map_err(|e| foon_core::Error::Invalid(format!("not a serialised FOON: {e}")))
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let py = slf.py();
+        let f = slf.get_type().getattr("from_bytes")?;
+        let data = slf.get().to_bytes(py)?;
+        Ok((f, PyTuple::new(py, [data])?))
+    }
+
+    /// Immutable: a copy is the same object.
+    fn __copy__(slf: Bound<'_, Self>) -> Bound<'_, Self> {
+        slf
+    }
+
+    fn __deepcopy__<'py>(slf: Bound<'py, Self>, _memo: &Bound<'py, PyAny>) -> Bound<'py, Self> {
+        slf
+    }
+
+    /// Equal when the serialised forms are equal (same units, objects, lines, warnings and
+    /// source).
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        let Ok(o) = other.cast::<PyFoon>() else {
+            return false;
+        };
+        let o = o.get();
+        Arc::ptr_eq(&self.inner, &o.inner)
+            || (self.fingerprint() == o.fingerprint()
+                && serial::encode(&self.inner) == serial::encode(&o.inner))
+    }
+
+    fn __hash__(&self) -> u64 {
+        self.fingerprint()
+    }
+
+    #[getter]
+    fn fu_count(&self) -> usize {
+        self.inner.fu_count()
+    }
+
+    #[getter]
+    fn object_count(&self) -> usize {
+        self.inner.object_count()
+    }
+
+    #[getter]
+    fn source(&self) -> Option<String> {
+        self.inner.source().map(|p| p.display().to_string())
+    }
+
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.inner.stats();
+        let d = PyDict::new(py);
+        d.set_item("functional_units", s.functional_units)?;
+        d.set_item("objects", s.objects)?;
+        d.set_item("produced_objects", s.produced_objects)?;
+        d.set_item("motions", s.motions)?;
+        d.set_item("strings", s.strings)?;
+        d.set_item("input_edges", s.input_edges)?;
+        d.set_item("output_edges", s.output_edges)?;
+        d.set_item("duplicates_dropped", s.duplicates_dropped)?;
+        d.set_item("warnings", s.warnings)?;
+        d.set_item("index_bytes", s.index_bytes)?;
+        Ok(d)
+    }
+
+    /// Warnings of the load: (path, line, column, kind, message).
+    fn warnings(&self) -> Vec<WarningTuple> {
+        self.inner
+            .warnings()
+            .iter()
+            .map(|w| {
+                let (p, line, col) = location(&w.at);
+                (p, line, col, w.kind.as_str(), w.message.clone())
+            })
+            .collect()
+    }
+
+    /// Dropped duplicate FUs: (line of the dropped copy, index of the kept one).
+    fn duplicates(&self) -> Vec<Duplicate> {
+        self.inner
+            .duplicates()
+            .iter()
+            .map(|d| (d.line, d.of))
+            .collect()
+    }
+
+    /// Object `o` in its first written form: (label, states, ingredients, container).
+    fn object(&self, o: &Bound<'_, PyAny>) -> PyResult<ObjTuple> {
+        let o = object_index(&self.inner, o)?;
+        Ok(tuple_of(ObjectSpec::of_object(&self.inner, o)))
+    }
+
+    /// FU `f`: (motion, input object ids, output object ids, source line).
+    fn fu(&self, f: &Bound<'_, PyAny>) -> PyResult<(String, Vec<u32>, Vec<u32>, u32)> {
+        let f = fu_index(&self.inner, f)?;
+        let foon = &self.inner;
+        Ok((
+            foon.motion_text(f).to_owned(),
+            foon.inputs(f).to_vec(),
+            foon.outputs(f).to_vec(),
+            foon.fu_line(f),
+        ))
+    }
+
+    /// FU `f` in the course text form (ends with `//`).
+    fn fu_text(&self, f: &Bound<'_, PyAny>) -> PyResult<String> {
+        let f = fu_index(&self.inner, f)?;
+        let mut s = String::new();
+        write::fu_text(&self.inner, f, &mut s);
+        Ok(s)
+    }
+
+    /// A task tree in the course output file form.
+    fn tree_text(&self, units: Vec<u32>) -> PyResult<String> {
+        for &f in &units {
+            check_fu(&self.inner, f)?;
+        }
+        Ok(write::tree_text(&self.inner, &units))
+    }
+
+    /// The whole FOON in the course text form.
+    fn to_text(&self, py: Python<'_>) -> PyResult<String> {
+        let foon = &self.inner;
+        enter(py, |_| Ok(write::foon_text(foon)))
+    }
+
+    /// The id of the object with this identity, or None.
+    #[pyo3(signature = (label, states, ingredients, container))]
+    fn find(
+        &self,
+        label: &str,
+        states: Vec<String>,
+        ingredients: Vec<String>,
+        container: Option<String>,
+    ) -> Option<u32> {
+        let s: Vec<&str> = states.iter().map(String::as_str).collect();
+        let i: Vec<&str> = ingredients.iter().map(String::as_str).collect();
+        self.inner.find_object(label, &s, &i, container.as_deref())
+    }
+
+    /// Resolves a goal: an object id, a label only one object has, or an object's fields
+    /// (label, states, ingredients, container); `GoalNotFoundError` otherwise.
+    fn goal_id(&self, goal: &Bound<'_, PyAny>) -> PyResult<u32> {
+        let foon = &self.inner;
+        let not_found = |goal: String| PyFoonErr(foon_core::Error::GoalNotFound { goal });
+        if let Ok(label) = goal.cast::<PyString>() {
+            let label = label.to_str()?;
+            let ids = foon.objects_with_label(label);
+            return match ids.as_slice() {
+                [one] => Ok(*one),
+                [] => Err(not_found(label.to_owned()).into()),
+                many => {
+                    const SHOWN: usize = 20;
+                    let mut shown: Vec<String> = many
+                        .iter()
+                        .take(SHOWN)
+                        .map(|&o| write::object_line(foon, o))
+                        .collect();
+                    if many.len() > SHOWN {
+                        shown.push(format!("and {} more", many.len() - SHOWN));
+                    }
+                    Err(GoalNotFoundError::new_err(format!(
+                        "the label '{label}' matches {} objects; give states and container to \
+                         choose one: {}",
+                        many.len(),
+                        shown.join("; ")
+                    )))
+                }
+            };
+        }
+        if let Ok(t) = goal.cast::<PyTuple>() {
+            let spec = spec_of(t.extract::<ObjTuple>()?);
+            return spec
+                .find_in(foon)
+                .ok_or_else(|| not_found(spec.describe()).into());
+        }
+        match goal.extract::<i64>() {
+            Ok(i) if i >= 0 && (i as u64) < foon.object_count() as u64 => Ok(i as u32),
+            _ => Err(not_found(format!("object id {goal}")).into()),
+        }
+    }
+
+    fn objects_with_label(&self, label: &str) -> Vec<u32> {
+        self.inner.objects_with_label(label)
+    }
+
+    fn producers(&self, o: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
+        let o = object_index(&self.inner, o)?;
+        Ok(self.inner.producers(o).to_vec())
+    }
+
+    fn consumers(&self, o: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
+        let o = object_index(&self.inner, o)?;
+        Ok(self.inner.consumers(o).to_vec())
+    }
+
+    /// Checks the task tree in `tree` (a parsed tree file) against this FOON, in its order.
+    fn verify_tree<'py>(
+        &self,
+        py: Python<'py>,
+        tree: &PyFoon,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        goal: ObjTuple,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let kitchen = specs_of(kitchen);
+        let goal = spec_of(goal);
+        let (foon, tree) = (&self.inner, &tree.inner);
+        let r = enter(py, |_| {
+            verify::verify_tree(foon, tree, &kitchen, &utensils, &goal)
+        })?;
+        let d = PyDict::new(py);
+        d.set_item("units", r.units)?;
+        d.set_item("valid", r.is_valid())?;
+        d.set_item("goal_made", r.goal_made)?;
+        d.set_item("goal_absent", r.goal_absent)?;
+        d.set_item("foreign_units", r.foreign_units)?;
+        match r.first_blocked {
+            Some(b) => {
+                let missing: Vec<ObjTuple> = b.missing.into_iter().map(tuple_of).collect();
+                d.set_item("blocked", (b.position, b.line, missing))?;
+            }
+            None => d.set_item("blocked", py.None())?,
+        }
+        Ok(d)
+    }
+}
+
+pub(crate) fn check_object(foon: &foon_core::Foon, o: u32) -> PyResult<()> {
+    if (o as usize) < foon.object_count() {
+        Ok(())
+    } else {
+        Err(pyo3::exceptions::PyIndexError::new_err(format!(
+            "object id {o} is out of range (the FOON has {} objects)",
+            foon.object_count()
+        )))
+    }
+}
+
+pub(crate) fn check_fu(foon: &foon_core::Foon, f: u32) -> PyResult<()> {
+    if (f as usize) < foon.fu_count() {
+        Ok(())
+    } else {
+        Err(pyo3::exceptions::PyIndexError::new_err(format!(
+            "functional unit {f} is out of range (the FOON has {})",
+            foon.fu_count()
+        )))
+    }
+}

@@ -1,0 +1,172 @@
+//! Module functions: companion file loaders, the linter, method names, object checking.
+
+use foon_core::InputKind;
+use foon_core::companion::{self, MotionRates};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+
+use crate::convert::{
+    ObjTuple, location, opt_path_arg, path_arg, spec_arg, spec_fields, spec_of_mapping, specs_of,
+    text_bytes, tuple_of,
+};
+use crate::errors::{PyFoonErr, enter};
+
+fn kind_of(kind: &str) -> PyResult<InputKind> {
+    match kind {
+        "kitchen" => Ok(InputKind::Kitchen),
+        "goal" => Ok(InputKind::Goal),
+        _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "unknown object list kind '{kind}' (choose from kitchen, goal)"
+        ))),
+    }
+}
+
+/// Checks an object's fields: (label, states tuple, ingredients tuple, container).
+#[pyfunction]
+#[pyo3(signature = (label, states, ingredients, container))]
+pub(crate) fn object_fields<'py>(
+    label: &Bound<'py, PyAny>,
+    states: &Bound<'py, PyAny>,
+    ingredients: &Bound<'py, PyAny>,
+    container: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let spec = spec_arg(label, states, ingredients, container)?;
+    spec_fields(label.py(), spec)
+}
+
+/// Checks an object given as a kitchen/goal JSON-shaped mapping; returns its fields.
+#[pyfunction]
+pub(crate) fn object_fields_of_mapping<'py>(
+    d: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let spec = spec_of_mapping(d)?;
+    spec_fields(d.py(), spec)
+}
+
+/// Reads a list of objects (kitchen or goal; JSON or FOON object blocks) from a file.
+#[pyfunction]
+pub(crate) fn load_objects(
+    py: Python<'_>,
+    path: &Bound<'_, PyAny>,
+    kind: &str,
+) -> PyResult<Vec<ObjTuple>> {
+    let k = kind_of(kind)?;
+    let path = path_arg("path", path)?;
+    let v = enter(py, |_| companion::load_objects(&path, k))?;
+    Ok(v.into_iter().map(tuple_of).collect())
+}
+
+/// Parses a list of objects from text; `path` only names the source in messages.
+#[pyfunction]
+#[pyo3(signature = (text, kind, path = None))]
+pub(crate) fn parse_objects(
+    py: Python<'_>,
+    text: &Bound<'_, PyAny>,
+    kind: &str,
+    path: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<ObjTuple>> {
+    let k = kind_of(kind)?;
+    let data = text_bytes("text", text)?;
+    let path = opt_path_arg("path", path)?;
+    let v = enter(py, |_| companion::parse_objects(&data, path.as_deref(), k))?;
+    Ok(v.into_iter().map(tuple_of).collect())
+}
+
+/// Reads a motion table: (motion, rate) pairs in file order.
+#[pyfunction]
+pub(crate) fn load_rates(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<(String, f64)>> {
+    let path = path_arg("path", path)?;
+    Ok(enter(py, |_| companion::load_rates(&path))?.entries)
+}
+
+#[pyfunction]
+#[pyo3(signature = (text, path = None))]
+pub(crate) fn parse_rates(
+    py: Python<'_>,
+    text: &Bound<'_, PyAny>,
+    path: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<(String, f64)>> {
+    let data = text_bytes("text", text)?;
+    let path = opt_path_arg("path", path)?;
+    Ok(enter(py, |_| companion::parse_rates(&data, path.as_deref()))?.entries)
+}
+
+/// Checks (motion, rate) pairs by the core's rule; returns them.
+#[pyfunction]
+pub(crate) fn check_rates(pairs: Vec<(String, f64)>) -> PyResult<Vec<(String, f64)>> {
+    Ok(MotionRates::from_pairs(pairs).map_err(PyFoonErr)?.entries)
+}
+
+/// Reads a utensil list.
+#[pyfunction]
+pub(crate) fn load_utensils(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
+    let path = path_arg("path", path)?;
+    enter(py, |_| companion::load_utensils(&path))
+}
+
+#[pyfunction]
+#[pyo3(signature = (text, path = None))]
+pub(crate) fn parse_utensils(
+    py: Python<'_>,
+    text: &Bound<'_, PyAny>,
+    path: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<String>> {
+    let data = text_bytes("text", text)?;
+    let path = opt_path_arg("path", path)?;
+    enter(py, |_| companion::parse_utensils(&data, path.as_deref()))
+}
+
+/// A lint finding: (path, line, column, severity, code, message).
+type FindingTuple = (Option<String>, u64, u32, &'static str, &'static str, String);
+
+/// Checks FOON files: every error, warning and note of each, in line order.
+#[pyfunction]
+#[pyo3(signature = (paths, kitchen = None, rates = None, utensils = Vec::new()))]
+pub(crate) fn check(
+    py: Python<'_>,
+    paths: Vec<Bound<'_, PyAny>>,
+    kitchen: Option<Vec<ObjTuple>>,
+    rates: Option<Vec<(String, f64)>>,
+    utensils: Vec<String>,
+) -> PyResult<Vec<FindingTuple>> {
+    let paths = paths
+        .iter()
+        .map(|p| path_arg("paths", p))
+        .collect::<PyResult<Vec<_>>>()?;
+    let kitchen = kitchen.map(specs_of);
+    let rates = rates
+        .map(MotionRates::from_pairs)
+        .transpose()
+        .map_err(PyFoonErr)?;
+    let findings = enter(py, |_| {
+        let opts = foon_core::lint::LintOptions {
+            kitchen: kitchen.as_deref(),
+            rates: rates.as_ref(),
+            utensils: &utensils,
+        };
+        let mut all = Vec::new();
+        for p in &paths {
+            all.extend(foon_core::lint::lint_file(p, &opts)?);
+        }
+        Ok(all)
+    })?;
+    Ok(findings
+        .into_iter()
+        .map(|f| {
+            let (p, line, col) = location(&f.at);
+            (p, line, col, f.severity.as_str(), f.code, f.message)
+        })
+        .collect())
+}
+
+/// Method names, in the order the comparison table lists them.
+#[pyfunction]
+pub(crate) fn methods() -> Vec<&'static str> {
+    foon_core::Method::ALL.iter().map(|m| m.as_str()).collect()
+}
+
+/// The cap on worker threads (the available parallelism).
+#[pyfunction]
+pub(crate) fn max_threads() -> usize {
+    foon_core::search::batch::max_threads()
+}

@@ -1,0 +1,126 @@
+//! `foon._foon.Planner`: a FOON with its planning inputs prepared once, for any number of plans.
+
+use std::sync::Arc;
+
+use foon_core::companion::MotionRates;
+use foon_core::search::batch::{self, BatchOptions};
+use foon_core::search::{Context, Prepared, Query};
+use pyo3::prelude::*;
+
+use crate::convert::{ObjTuple, specs_of, threads_arg};
+use crate::errors::{PyFoonErr, enter};
+use crate::foon::{PyFoon, check_fu, check_object};
+use crate::plan::PyPlan;
+
+/// (valid in some order, height, first position whose needed inputs are unavailable).
+type TreeCheck = (bool, Option<u32>, Option<(usize, Vec<u32>)>);
+
+#[pyclass(frozen, module = "foon._foon", name = "Planner")]
+pub(crate) struct PyPlanner {
+    foon: Arc<foon_core::Foon>,
+    prep: Arc<Prepared>,
+}
+
+#[pymethods]
+impl PyPlanner {
+    #[new]
+    #[pyo3(signature = (foon, kitchen, utensils, rates = None, default_rate = None))]
+    fn new(
+        py: Python<'_>,
+        foon: &PyFoon,
+        kitchen: Vec<ObjTuple>,
+        utensils: Vec<String>,
+        rates: Option<Vec<(String, f64)>>,
+        default_rate: Option<f64>,
+    ) -> PyResult<Self> {
+        let kitchen = specs_of(kitchen);
+        let rates = rates
+            .map(MotionRates::from_pairs)
+            .transpose()
+            .map_err(PyFoonErr)?;
+        let f = Arc::clone(&foon.inner);
+        let prep = enter(py, |_| {
+            Prepared::new(&f, &kitchen, &utensils, rates.as_ref(), default_rate)
+        })?;
+        Ok(Self {
+            foon: f,
+            prep: Arc::new(prep),
+        })
+    }
+
+    /// Plans every goal (object ids), in order, on `threads` worker threads (see
+    /// `foon_core::search::batch` for the cap and the default).
+    #[pyo3(signature = (goals, method, compat, count, threads = None))]
+    fn plan(
+        &self,
+        py: Python<'_>,
+        goals: Vec<u32>,
+        method: &str,
+        compat: &str,
+        count: &str,
+        threads: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Vec<Py<PyPlan>>> {
+        let threads = threads_arg(threads)?;
+        let query = Query {
+            method: method.parse().map_err(PyFoonErr)?,
+            compat: compat.parse().map_err(PyFoonErr)?,
+            count: count.parse().map_err(PyFoonErr)?,
+        };
+        for &g in &goals {
+            check_object(&self.foon, g)?;
+        }
+        let opts = BatchOptions::threads(threads);
+        opts.workers(goals.len()).map_err(PyFoonErr)?;
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        let plans = enter(py, |cancel| {
+            batch::plan_batch(foon, prep, &goals, query, &opts.with_cancel(cancel))
+        })?;
+        plans
+            .into_iter()
+            .map(|plan| Py::new(py, PyPlan { plan }))
+            .collect()
+    }
+
+    /// Checks a tree: (valid in some order, height, first position in the given order whose
+    /// needed inputs are unavailable with those inputs).
+    fn check_tree(&self, py: Python<'_>, units: Vec<u32>, goal: u32) -> PyResult<TreeCheck> {
+        check_object(&self.foon, goal)?;
+        for &f in &units {
+            check_fu(&self.foon, f)?;
+        }
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        enter(py, |cancel| {
+            let ctx = Context::with(foon, prep)?.with_cancel(cancel);
+            let m = ctx.metrics(&units, goal);
+            Ok((
+                ctx.is_valid(&units, goal),
+                m.height,
+                ctx.first_unavailable(&units),
+            ))
+        })
+    }
+
+    /// Rank of every object (None when not derivable from the kitchen).
+    fn ranks(&self, py: Python<'_>) -> PyResult<Vec<Option<u32>>> {
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        enter(py, |cancel| {
+            let ctx = Context::with(foon, prep)?.with_cancel(cancel);
+            let r = ctx.ranks();
+            Ok((0..foon.object_count() as u32).map(|o| r.rank(o)).collect())
+        })
+    }
+
+    /// Object ids of the kitchen items found in the FOON, in id order.
+    fn kitchen_objects(&self) -> PyResult<Vec<u32>> {
+        let ctx = Context::with(&self.foon, &self.prep).map_err(PyFoonErr)?;
+        Ok(ctx.kitchen_objects().to_vec())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<foon._foon.Planner over {} units, {} kitchen objects>",
+            self.foon.fu_count(),
+            Context::with(&self.foon, &self.prep).map_or(0, |c| c.kitchen_objects().len())
+        )
+    }
+}
