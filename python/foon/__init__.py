@@ -14,27 +14,47 @@ always executable.
     True
 """
 
+# Importing foon is kept cheap (the command line pays for it on every call): no typing,
+# json, dataclasses, pathlib or importlib.resources at import time; modules that only some
+# calls need are imported inside them.
 from __future__ import annotations
 
-import json
 import os
-import warnings
-from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
-from importlib import resources
-from pathlib import Path
-from typing import Any, Generic, Literal, TypeAlias, TypeVar, Union, overload
+from _collections_abc import Mapping
 
 from foon import _foon
 from foon._foon import FoonError, GoalNotFoundError, MissingRateError, ParseError
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from collections.abc import Callable, Iterable, Iterator, Sequence
+    from pathlib import Path
+    from typing import Any, Literal, TypeAlias
+
+    Method: TypeAlias = Literal[
+        "bfs",
+        "ids",
+        "greedy-success",
+        "greedy-inputs",
+        "optimal-success",
+        "optimal-units",
+        "optimal-inputs",
+    ]
+    PathLike: TypeAlias = str | bytes | os.PathLike[str] | os.PathLike[bytes]
+    ObjectLike: TypeAlias = "Object | Mapping[str, Any]"
+    KitchenLike: TypeAlias = "Kitchen | Iterable[ObjectLike] | PathLike | None"
+    MotionsLike: TypeAlias = "MotionRates | Mapping[str, float] | PathLike | None"
+    UtensilsLike: TypeAlias = "Iterable[str] | PathLike | None"
+    GoalLike: TypeAlias = "ObjectLike | int | str"
+    _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
 __version__: str = _foon.__version__
 
 __all__ = [
     "METHODS",
     "Blocked",
-    "Finding",
     "Example",
+    "Finding",
     "Foon",
     "FoonError",
     "FoonWarning",
@@ -51,51 +71,66 @@ __all__ = [
     "check",
     "example",
     "load",
+    "load_goals",
     "load_utensils",
 ]
 
 #: Every planning method, in the order comparison tables list them.
 METHODS: tuple[str, ...] = tuple(_foon.methods())
 
-Method = Literal[
-    "bfs",
-    "ids",
-    "greedy-success",
-    "greedy-inputs",
-    "optimal-success",
-    "optimal-units",
-    "optimal-inputs",
-]
-PathLike: TypeAlias = Union[str, "os.PathLike[str]"]
+_new = object.__new__
+_set = object.__setattr__
+_PATH_TYPES = (str, bytes, os.PathLike)
+
+
+def _type(v: object) -> str:
+    return type(v).__name__
 
 
 class FoonWarning(UserWarning):
     """An annotation fault that did not stop loading (an FU dropped, a missing ``//``)."""
 
 
-@dataclass(frozen=True)
-class Object:
+class _Frozen:
+    __slots__ = ()
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError(f"{type(self).__name__} is immutable")
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"{type(self).__name__} is immutable")
+
+
+class Object(_Frozen):
     """An object node: a label, its states, its ingredients and its container.
 
-    Identity ignores the order of states and ingredients (they are multisets).
+    Identity ignores the order of states and ingredients (they are multisets). The fields are
+    checked by the core's rule: ``label`` a non-empty ``str``, ``states`` and ``ingredients``
+    sequences of ``str`` (not a ``str``), ``container`` a ``str`` or ``None``.
     """
 
+    __slots__ = ("container", "ingredients", "label", "states")
+    __match_args__ = ("label", "states", "ingredients", "container")
+
     label: str
-    states: tuple[str, ...] = ()
-    ingredients: tuple[str, ...] = ()
-    container: str | None = None
+    states: tuple[str, ...]
+    ingredients: tuple[str, ...]
+    container: str | None
+
+    def __init__(
+        self,
+        label: str,
+        states: Iterable[str] = (),
+        ingredients: Iterable[str] = (),
+        container: str | None = None,
+    ) -> None:
+        _fill(self, _foon.object_fields(label, states, ingredients, container))
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Object:
-        """From the kitchen/goal JSON shape ``{"label", "states", "ingredients", "container"}``."""
-        if "label" not in d:
-            raise ValueError(f"an object needs a 'label': {dict(d)!r}")
-        return cls(
-            str(d["label"]),
-            tuple(d.get("states") or ()),
-            tuple(d.get("ingredients") or ()),
-            d.get("container"),
-        )
+        """From the kitchen/goal JSON shape ``{"label", "states", "ingredients", "container"}``
+        (checked as the core checks kitchen and goal files)."""
+        return _fill(_new(cls), _foon.object_fields_of_mapping(d))
 
     def to_dict(self) -> dict[str, Any]:
         """The kitchen/goal JSON shape."""
@@ -108,14 +143,24 @@ class Object:
 
     def identity(self) -> tuple[str, tuple[str, ...], tuple[str, ...], str | None]:
         """``(label, sorted states, sorted ingredients, container)``."""
-        return (self.label, tuple(sorted(self.states)), tuple(sorted(self.ingredients)),
-                self.container)
+        return (
+            self.label,
+            tuple(sorted(self.states)),
+            tuple(sorted(self.ingredients)),
+            self.container,
+        )
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Object) and self.identity() == other.identity()
 
     def __hash__(self) -> int:
         return hash(self.identity())
+
+    def __repr__(self) -> str:
+        return (
+            f"Object(label={self.label!r}, states={self.states!r}, "
+            f"ingredients={self.ingredients!r}, container={self.container!r})"
+        )
 
     def __str__(self) -> str:
         s = self.label
@@ -127,41 +172,78 @@ class Object:
             s += f" in [{self.container}]"
         return s
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Object, self._fields())
+
+    def _fields(self) -> _Fields:
+        return (self.label, self.states, self.ingredients, self.container)
+
     def _tuple(self) -> tuple[str, list[str], list[str], str | None]:
         return (self.label, list(self.states), list(self.ingredients), self.container)
 
 
-ObjectLike: TypeAlias = Union[Object, Mapping[str, Any]]
+def _fill(o: Object, fields: _Fields) -> Object:
+    label, states, ingredients, container = fields
+    _set(o, "label", label)
+    _set(o, "states", states)
+    _set(o, "ingredients", ingredients)
+    _set(o, "container", container)
+    return o
 
 
-def _as_object(o: ObjectLike) -> Object:
-    return o if isinstance(o, Object) else Object.from_dict(o)
+def _object(t: tuple[str, Sequence[str], Sequence[str], str | None]) -> Object:
+    """An object from fields the core gives (already checked)."""
+    return _fill(_new(Object), (t[0], tuple(t[1]), tuple(t[2]), t[3]))
+
+
+def _as_object(o: ObjectLike, what: str = "an object") -> Object:
+    if isinstance(o, Object):
+        return o
+    if isinstance(o, Mapping):
+        return Object.from_dict(o)
+    raise TypeError(f"{what} must be an Object or a mapping, not {_type(o)}")
 
 
 def _emit_warnings(items: Sequence[tuple[str | None, int, int, str, str]]) -> None:
+    """Issues load warnings at the first caller outside this package."""
+    if not items:
+        return
+    import sys
+    import warnings
+
+    level, frame = 1, sys._getframe(0)
+    while frame is not None and frame.f_globals.get("__name__", "").partition(".")[0] == "foon":
+        frame = frame.f_back  # type: ignore[assignment]
+        level += 1
     for path, line, col, kind, message in items:
-        warnings.warn(f"{path or '<string>'}:{line}:{col}: {message} [{kind}]", FoonWarning,
-                      stacklevel=3)
+        warnings.warn(
+            f"{path or '<string>'}:{line}:{col}: {message} [{kind}]", FoonWarning, stacklevel=level
+        )
 
 
 class Kitchen:
     """The objects at hand. An object is available iff its identity equals an item's."""
 
+    __slots__ = ("_cached", "items")
+
     def __init__(self, items: Iterable[ObjectLike] = ()) -> None:
-        self.items: tuple[Object, ...] = tuple(_as_object(o) for o in items)
+        if isinstance(items, (*_PATH_TYPES, Mapping, Object)):
+            raise TypeError(
+                f"items must be an iterable of objects, not {_type(items)} (use Kitchen.load "
+                "for a file)"
+            )
+        self.items: tuple[Object, ...] = tuple(_as_object(o, "a kitchen item") for o in items)
         self._cached: list[tuple[str, list[str], list[str], str | None]] | None = None
 
     @classmethod
     def load(cls, path: PathLike) -> Kitchen:
         """From a JSON list of objects or a file of FOON object blocks (``O``/``S`` lines)."""
-        return cls(Object(t[0], tuple(t[1]), tuple(t[2]), t[3])
-                   for t in _foon.load_objects(os.fspath(path), "kitchen"))
+        return _kitchen(_foon.load_objects(path, "kitchen"))
 
     @classmethod
     def from_text(cls, text: str | bytes) -> Kitchen:
         """From JSON text or FOON object blocks."""
-        return cls(Object(t[0], tuple(t[1]), tuple(t[2]), t[3])
-                   for t in _foon.parse_objects(text, "kitchen"))
+        return _kitchen(_foon.parse_objects(text, "kitchen"))
 
     def __iter__(self) -> Iterator[Object]:
         return iter(self.items)
@@ -172,12 +254,23 @@ class Kitchen:
     def __contains__(self, o: object) -> bool:
         return isinstance(o, Object | Mapping) and _as_object(o) in self.items
 
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Kitchen) and self.items == other.items
+
+    def __hash__(self) -> int:
+        return hash(self.items)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Kitchen, (self.items,))
+
     def without(self, drop: Iterable[ObjectLike]) -> Kitchen:
         """A copy without the given items."""
         gone = {_as_object(o) for o in drop}
         return Kitchen(o for o in self.items if o not in gone)
 
     def to_json(self) -> str:
+        import json
+
         return json.dumps([o.to_dict() for o in self.items], indent=4)
 
     def _tuples(self) -> list[tuple[str, list[str], list[str], str | None]]:
@@ -189,7 +282,11 @@ class Kitchen:
         return f"Kitchen({len(self.items)} items)"
 
 
-KitchenLike: TypeAlias = Union[Kitchen, Iterable[ObjectLike], str, "os.PathLike[str]", None]
+def _kitchen(raw: Iterable[tuple[str, list[str], list[str], str | None]]) -> Kitchen:
+    k: Kitchen = _new(Kitchen)
+    k.items = tuple(_object(t) for t in raw)
+    k._cached = None
+    return k
 
 
 def _as_kitchen(k: KitchenLike) -> Kitchen:
@@ -197,26 +294,26 @@ def _as_kitchen(k: KitchenLike) -> Kitchen:
         return Kitchen()
     if isinstance(k, Kitchen):
         return k
-    if isinstance(k, str | os.PathLike):
+    if isinstance(k, _PATH_TYPES):
         return Kitchen.load(k)
+    if isinstance(k, Mapping | Object) or not hasattr(k, "__iter__"):
+        raise TypeError(
+            f"kitchen must be a Kitchen, a path or an iterable of objects, not {_type(k)}"
+        )
     return Kitchen(k)
 
 
 class MotionRates(Mapping[str, float]):
-    """Success rate of each motion (``motion<TAB>rate`` lines in ``motion.txt``)."""
+    """Success rate of each motion (``motion<TAB>rate`` lines in ``motion.txt``); every rate
+    is between 0 and 1 (checked by the core)."""
 
     def __init__(self, rates: Mapping[str, float] | Iterable[tuple[str, float]] = ()) -> None:
         pairs = rates.items() if isinstance(rates, Mapping) else rates
-        self._rates: dict[str, float] = {}
-        for m, r in pairs:
-            r = float(r)
-            if not 0.0 <= r <= 1.0:
-                raise ValueError(f"rate of {m!r} must be between 0 and 1, not {r}")
-            self._rates[str(m)] = r
+        self._rates: dict[str, float] = dict(_foon.check_rates(list(pairs)))
 
     @classmethod
     def load(cls, path: PathLike) -> MotionRates:
-        return cls(_foon.load_rates(os.fspath(path)))
+        return cls(_foon.load_rates(path))
 
     @classmethod
     def from_text(cls, text: str | bytes) -> MotionRates:
@@ -231,100 +328,154 @@ class MotionRates(Mapping[str, float]):
     def __len__(self) -> int:
         return len(self._rates)
 
+    def __hash__(self) -> int:
+        return hash(frozenset(self._rates.items()))
+
     def __repr__(self) -> str:
         return f"MotionRates({len(self._rates)} motions)"
-
-
-MotionsLike: TypeAlias = Union[MotionRates, Mapping[str, float], str, "os.PathLike[str]", None]
 
 
 def _as_rates(m: MotionsLike) -> MotionRates | None:
     if m is None or isinstance(m, MotionRates):
         return m
-    if isinstance(m, str | os.PathLike):
+    if isinstance(m, _PATH_TYPES):
         return MotionRates.load(m)
     return MotionRates(m)
 
 
 def load_utensils(path: PathLike) -> list[str]:
     """Reads a utensil list (one name a line)."""
-    return list(_foon.load_utensils(os.fspath(path)))
+    return list(_foon.load_utensils(path))
 
 
-UtensilsLike: TypeAlias = Union[Iterable[str], str, "os.PathLike[str]", None]
+def load_goals(path: PathLike) -> list[Object]:
+    """Reads goals: a JSON list of objects, one JSON object, or FOON object blocks (``O``/``S``
+    lines), checked as the command line's ``--goals`` file is."""
+    return [_object(t) for t in _foon.load_objects(path, "goal")]
 
 
 def _as_utensils(u: UtensilsLike) -> list[str]:
     if u is None:
         return []
-    if isinstance(u, str | os.PathLike):
+    if isinstance(u, _PATH_TYPES):
         return load_utensils(u)
     return [str(x) for x in u]
 
 
-@dataclass(frozen=True)
 class FunctionalUnit:
-    """One step: input objects, a motion, output objects."""
+    """One step: input objects, a motion, output objects.
 
-    index: int
-    motion: str
-    inputs: tuple[Object, ...]
-    outputs: tuple[Object, ...]
-    line: int
-    input_ids: tuple[int, ...] = field(repr=False, default=())
-    output_ids: tuple[int, ...] = field(repr=False, default=())
+    Units of a :class:`TaskTree` or a :class:`Foon` are light views: the motion, the line and
+    the objects are read from the index when first asked for.
+    """
 
+    __slots__ = ("_foon", "_index", "_inputs", "_outputs", "_raw")
 
-T = TypeVar("T")
+    _foon: Foon | None
+    _index: int
+    _raw: tuple[str, Sequence[int], Sequence[int], int] | None
+    _inputs: tuple[Object, ...] | None
+    _outputs: tuple[Object, ...] | None
 
+    def __init__(
+        self,
+        index: int,
+        motion: str,
+        inputs: Iterable[Object],
+        outputs: Iterable[Object],
+        line: int,
+        input_ids: Iterable[int] = (),
+        output_ids: Iterable[int] = (),
+    ) -> None:
+        self._foon = None
+        self._index = index
+        self._raw = (motion, tuple(input_ids), tuple(output_ids), line)
+        self._inputs = tuple(inputs)
+        self._outputs = tuple(outputs)
 
-class _Read(Generic[T]):
-    """A :class:`TaskTree` attribute read from the core's result of the same name."""
-
-    def __init__(self, doc: str = "") -> None:
-        self.__doc__ = doc
-        self.name = ""
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
-
-    @overload
-    def __get__(self, tree: None, owner: type) -> _Read[T]: ...
-    @overload
-    def __get__(self, tree: TaskTree, owner: type) -> T: ...
-    def __get__(self, tree: TaskTree | None, owner: type) -> _Read[T] | T:
-        if tree is None:
-            return self
-        return self.read(tree)
-
-    def read(self, tree: TaskTree) -> T:
-        return getattr(tree._plan, self.name)  # type: ignore[no-any-return]
-
-
-class _Kept(_Read[T]):
-    """Like :class:`_Read`, built once per tree (a list the caller may keep)."""
-
-    def read(self, tree: TaskTree) -> T:
-        try:
-            return tree._kept[self.name]  # type: ignore[no-any-return]
-        except KeyError:
-            v = tree._kept[self.name] = self.build(tree, getattr(tree._plan, self.name))
-            return v  # type: ignore[no-any-return]
-
-    def build(self, tree: TaskTree, raw: Any) -> Any:
+    def _read(self) -> tuple[str, Sequence[int], Sequence[int], int]:
+        raw = self._raw
+        if raw is None:
+            assert self._foon is not None
+            raw = self._raw = self._foon._native.fu(self._index)
         return raw
 
+    @property
+    def index(self) -> int:
+        return self._index
 
-class _Objects(_Kept[list[Object]]):
-    def build(self, tree: TaskTree, raw: Any) -> Any:
-        return [tree.foon.object(o) for o in raw]
+    @property
+    def motion(self) -> str:
+        return self._read()[0]
+
+    @property
+    def line(self) -> int:
+        return self._read()[3]
+
+    @property
+    def input_ids(self) -> tuple[int, ...]:
+        return tuple(self._read()[1])
+
+    @property
+    def output_ids(self) -> tuple[int, ...]:
+        return tuple(self._read()[2])
+
+    @property
+    def inputs(self) -> tuple[Object, ...]:
+        if self._inputs is None:
+            assert self._foon is not None
+            self._inputs = tuple(map(self._foon.object, self._read()[1]))
+        return self._inputs
+
+    @property
+    def outputs(self) -> tuple[Object, ...]:
+        if self._outputs is None:
+            assert self._foon is not None
+            self._outputs = tuple(map(self._foon.object, self._read()[2]))
+        return self._outputs
+
+    def _key(self) -> tuple[Any, ...]:
+        return (self.index, self.motion, self.inputs, self.outputs, self.line)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, FunctionalUnit) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash((self.index, self.motion, self.line))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (
+            FunctionalUnit,
+            (self.index, self.motion, self.inputs, self.outputs, self.line, self.input_ids,
+             self.output_ids),
+        )  # fmt: skip
+
+    def __repr__(self) -> str:
+        return (
+            f"FunctionalUnit(index={self.index!r}, motion={self.motion!r}, "
+            f"inputs={self.inputs!r}, outputs={self.outputs!r}, line={self.line!r})"
+        )
+
+
+def _unit_view(foon: Foon) -> Callable[[int], FunctionalUnit]:
+    """A maker of light unit views of ``foon`` (nothing is read until asked for)."""
+    cls = FunctionalUnit
+
+    def view(i: int) -> FunctionalUnit:
+        u: FunctionalUnit = _new(cls)
+        u._foon = foon
+        u._index = i
+        u._raw = u._inputs = u._outputs = None
+        return u
+
+    return view
 
 
 class TaskTree:
     """The result of planning one goal. Objects and lists are built from the core's result
     when first read."""
 
-    __slots__ = ("foon", "planner", "_plan", "_kept")
+    __slots__ = ("_kept", "_plan", "foon", "planner")
 
     def __init__(self, foon: Foon, plan: _foon.Plan, planner: Planner | None = None) -> None:
         self.foon = foon
@@ -334,9 +485,29 @@ class TaskTree:
 
     def __repr__(self) -> str:
         state = "solved" if self.solved else "unsolved"
-        return (f"<TaskTree {self.goal} by {self.method}"
-                f"{' (course)' if self.compat == 'course' else ''}: {state}, "
-                f"{len(self.units)} units>")
+        n = len(self.units)
+        course = " (course)" if self.compat == "course" else ""
+        return (
+            f"<TaskTree {self.goal} by {self.method}{course}: {state}, "
+            f"{n} unit{'' if n == 1 else 's'}>"
+        )
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (TaskTree, (self.foon, self._plan, self.planner))
+
+    def __eq__(self, other: object) -> bool:
+        """The same FOON and the same result (the planning time aside)."""
+        return isinstance(other, TaskTree) and self._plan == other._plan and self.foon == other.foon
+
+    def __hash__(self) -> int:
+        return hash((self._plan.goal, self._plan.method, tuple(self.units)))
+
+    def _objects(self, name: str, ids: list[int]) -> list[Object]:
+        try:
+            return self._kept[name]  # type: ignore[no-any-return]
+        except KeyError:
+            v = self._kept[name] = [self.foon.object(o) for o in ids]
+            return v
 
     @property
     def goal(self) -> Object:
@@ -346,34 +517,105 @@ class TaskTree:
     def goal_id(self) -> int:
         return self._plan.goal
 
-    method = _Read[str]()
-    compat = _Read[str]('``"course"`` or ``"sound"``.')
-    count = _Read[str]('``"nodes"`` or ``"ingredients"``.')
-    solved = _Read[bool]()
-    units = _Kept[list[int]]("FU indices (0-based, file order after de-duplication), in "
-                             "output order.")
-    unresolved = _Objects("Course methods: objects reached that are neither in the kitchen "
-                          "nor produced.")
-    missing = _Objects("Failed sound methods: raw items a tree would need that the kitchen "
-                       "lacks.")
-    cycle = _Objects("Failed sound methods blocked only by cycles: one blocking cycle "
-                     "(first = last).")
-    cycle_units = _Kept[list[int]]("The units of that cycle.")
-    height = _Read[int | None]("Parallel steps of the tree (the goal's rank using only its "
-                               "units).")
-    success = _Read[float | None]("Product of the motion success rates of the units (None "
-                                  "without a rate table).")
-    cost = _Read[float | None]("The optimal methods' objective value (None for the others).")
-    leaf_inputs = _Read[int]("Distinct kitchen items the units need.")
-    expanded = _Read[int]("Objects expanded by the search.")
-    peak_frontier = _Read[int]("Largest frontier (open list) during the search.")
-    seconds = _Read[float]("Time spent planning, in seconds.")
+    @property
+    def method(self) -> str:
+        return self._plan.method
+
+    @property
+    def compat(self) -> str:
+        """``"course"`` or ``"sound"``."""
+        return self._plan.compat
+
+    @property
+    def count(self) -> str:
+        """``"nodes"`` or ``"ingredients"``."""
+        return self._plan.count
+
+    @property
+    def solved(self) -> bool:
+        return self._plan.solved
+
+    @property
+    def units(self) -> list[int]:
+        """FU indices (0-based, file order after de-duplication), in output order."""
+        try:
+            return self._kept["units"]  # type: ignore[no-any-return]
+        except KeyError:
+            v = self._kept["units"] = self._plan.units
+            return v
+
+    @property
+    def unresolved(self) -> list[Object]:
+        """Course methods: objects reached that are neither in the kitchen nor produced."""
+        return self._objects("unresolved", self._plan.unresolved)
+
+    @property
+    def missing(self) -> list[Object]:
+        """Failed sound methods: raw items a tree would need that the kitchen lacks."""
+        return self._objects("missing", self._plan.missing)
+
+    @property
+    def cycle(self) -> list[Object]:
+        """Failed sound methods blocked only by cycles: one blocking cycle (first = last)."""
+        return self._objects("cycle", self._plan.cycle)
+
+    @property
+    def cycle_units(self) -> list[int]:
+        """The units of that cycle."""
+        try:
+            return self._kept["cycle_units"]  # type: ignore[no-any-return]
+        except KeyError:
+            v = self._kept["cycle_units"] = self._plan.cycle_units
+            return v
+
+    @property
+    def height(self) -> int | None:
+        """Parallel steps of the tree (the goal's rank using only its units)."""
+        return self._plan.height
+
+    @property
+    def success(self) -> float | None:
+        """Product of the motion success rates of the units (None without a rate table)."""
+        return self._plan.success
+
+    @property
+    def unrated_motion(self) -> str | None:
+        """The motion of the first unit of the tree that has no rate in the rate table given
+        (None when every motion has one, or when no table was given)."""
+        u = self._plan.unrated
+        return None if u is None else self.foon._native.fu(u)[0]
+
+    @property
+    def cost(self) -> float | None:
+        """The optimal methods' objective value (None for the others)."""
+        return self._plan.cost
+
+    @property
+    def leaf_inputs(self) -> int:
+        """Distinct kitchen items the units need."""
+        return self._plan.leaf_inputs
+
+    @property
+    def expanded(self) -> int:
+        """Objects expanded by the search."""
+        return self._plan.expanded
+
+    @property
+    def peak_frontier(self) -> int:
+        """Largest frontier (open list) during the search."""
+        return self._plan.peak_frontier
+
+    @property
+    def seconds(self) -> float:
+        """Time spent planning, in seconds."""
+        return self._plan.seconds
 
     def __len__(self) -> int:
         return len(self.units)
 
     def __iter__(self) -> Iterator[FunctionalUnit]:
-        return (self.foon.fu(i) for i in self.units)
+        """The units, in output order, as light views (see :class:`FunctionalUnit`)."""
+        return map(_unit_view(self.foon), self.units)
 
     @property
     def fu_count(self) -> int:
@@ -389,7 +631,8 @@ class TaskTree:
             return ""
         if self.unresolved:
             return "not in the kitchen and not produced by any unit: " + "; ".join(
-                str(o) for o in self.unresolved)
+                str(o) for o in self.unresolved
+            )
         if self.missing:
             return "missing from the kitchen: " + "; ".join(str(o) for o in self.missing)
         if self.cycle:
@@ -411,6 +654,7 @@ class TaskTree:
             "fu_count": self.fu_count,
             "height": self.height,
             "success": self.success,
+            "unrated_motion": self.unrated_motion,
             "cost": self.cost,
             "leaf_inputs": self.leaf_inputs,
             "expanded": self.expanded,
@@ -424,6 +668,8 @@ class TaskTree:
         }
 
     def to_json(self, indent: int | None = 2) -> str:
+        import json
+
         return json.dumps(self.to_dict(), indent=indent)
 
     def is_valid(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> bool:
@@ -433,23 +679,43 @@ class TaskTree:
         if p is None or kitchen is not None or utensils is not None:
             p = self.foon.planner(
                 kitchen if kitchen is not None else (p.kitchen if p else None),
-                utensils=utensils if utensils is not None else (p.utensils if p else None))
+                utensils=utensils if utensils is not None else (p.utensils if p else None),
+            )
         valid, _, _ = p._native.check_tree(self.units, self.goal_id)
         return bool(valid)
 
 
-@dataclass(frozen=True)
-class Blocked:
+class Blocked(_Frozen):
     """The first unit of a tree file that cannot run in the order written."""
+
+    __slots__ = ("line", "missing", "position")
 
     position: int
     line: int
     missing: list[Object]
 
+    def __init__(self, position: int, line: int, missing: list[Object]) -> None:
+        _set(self, "position", position)
+        _set(self, "line", line)
+        _set(self, "missing", missing)
 
-@dataclass(frozen=True)
-class TreeCheck:
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Blocked) and (self.position, self.line, self.missing) == (
+            other.position,
+            other.line,
+            other.missing,
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"Blocked(position={self.position!r}, line={self.line!r}, missing={self.missing!r})"
+
+
+class TreeCheck(_Frozen):
     """What :meth:`Foon.verify` found."""
+
+    __slots__ = ("blocked", "foreign_units", "goal_absent", "goal_made", "units", "valid")
 
     valid: bool
     units: int
@@ -459,9 +725,41 @@ class TreeCheck:
     #: (position, line) of units that are not units of the FOON.
     foreign_units: list[tuple[int, int]]
 
+    def __init__(
+        self,
+        valid: bool,
+        units: int,
+        goal_made: bool,
+        goal_absent: bool,
+        blocked: Blocked | None,
+        foreign_units: list[tuple[int, int]],
+    ) -> None:
+        for k, v in zip(self.__slots__, (blocked, foreign_units, goal_absent, goal_made, units,
+                                         valid), strict=True):  # fmt: skip
+            _set(self, k, v)
+
+    def _key(self) -> tuple[Any, ...]:
+        return tuple(getattr(self, k) for k in self.__slots__)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, TreeCheck) and self._key() == other._key()
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return (
+            f"TreeCheck(valid={self.valid!r}, units={self.units!r}, goal_made={self.goal_made!r}, "
+            f"goal_absent={self.goal_absent!r}, blocked={self.blocked!r}, "
+            f"foreign_units={self.foreign_units!r})"
+        )
+
 
 class Foon:
-    """A parsed FOON: an immutable compact index, safe to share between threads."""
+    """A parsed FOON: an immutable compact index, safe to share between threads. It pickles
+    (through a stable serialised form that keeps unit indices, object ids, lines and
+    warnings) and compares equal to a FOON with the same content."""
+
+    __slots__ = ("__weakref__", "_native")
 
     def __init__(self, native: _foon.Foon) -> None:
         self._native = native
@@ -470,18 +768,33 @@ class Foon:
     def load(cls, path: PathLike, *, strict: bool = False) -> Foon:
         """Reads a FOON file of any dialect. Annotation faults are reported as
         :class:`FoonWarning` (errors with ``strict=True``)."""
-        f = cls(_foon.Foon.load(os.fspath(path), strict=strict))
+        f = cls(_foon.Foon.load(path, strict=strict))
         _emit_warnings(f._native.warnings())
         return f
 
     @classmethod
-    def from_text(cls, text: str | bytes, *, strict: bool = False,
-                  path: PathLike | None = None) -> Foon:
+    def from_text(
+        cls, text: str | bytes, *, strict: bool = False, path: PathLike | None = None
+    ) -> Foon:
         """Parses FOON text; ``path`` only names the source in messages."""
-        f = cls(_foon.Foon.from_text(text, strict=strict,
-                                     path=None if path is None else os.fspath(path)))
+        f = cls(_foon.Foon.from_text(text, strict=strict, path=path))
         _emit_warnings(f._native.warnings())
         return f
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Foon, (self._native,))
+
+    def __copy__(self) -> Foon:
+        return self
+
+    def __deepcopy__(self, memo: object) -> Foon:
+        return self
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Foon) and self._native == other._native
+
+    def __hash__(self) -> int:
+        return hash(self._native)
 
     @property
     def fu_count(self) -> int:
@@ -496,7 +809,8 @@ class Foon:
 
     def __repr__(self) -> str:
         src = self._native.source
-        return f"<Foon {self.fu_count} units, {self.object_count} objects{f' from {src}' if src else ''}>"
+        where = f" from {src}" if src else ""
+        return f"<Foon {self.fu_count} units, {self.object_count} objects{where}>"
 
     def stats(self) -> dict[str, int]:
         """Counts: functional units, objects, produced objects, motions, ..."""
@@ -509,17 +823,16 @@ class Foon:
 
     def object(self, i: int) -> Object:
         """Object ``i`` (ids in first-seen order), in its first written form."""
-        label, states, ingredients, container = self._native.object(i)
-        return Object(label, tuple(states), tuple(ingredients), container)
+        return _object(self._native.object(i))
 
     def objects(self) -> Iterator[Object]:
         return (self.object(i) for i in range(self.object_count))
 
     def fu(self, i: int) -> FunctionalUnit:
         """Functional unit ``i`` (file order after dropping faulty and duplicate units)."""
-        motion, ins, outs, line = self._native.fu(i)
-        return FunctionalUnit(i, motion, tuple(self.object(o) for o in ins),
-                              tuple(self.object(o) for o in outs), line, tuple(ins), tuple(outs))
+        u = _unit_view(self)(i)
+        u._read()  # an index out of range fails here
+        return u
 
     def fu_text(self, i: int) -> str:
         return self._native.fu_text(i)
@@ -543,35 +856,23 @@ class Foon:
         """Every object with this label."""
         return [self.object(i) for i in self._native.objects_with_label(label)]
 
-    def goal_id(self, goal: ObjectLike | int | str) -> int:
+    def goal_id(self, goal: GoalLike) -> int:
         """Resolves a goal: an object id, an object (or its dict), or a label that only one
         object has. Raises :class:`GoalNotFoundError`."""
-        if isinstance(goal, bool):
-            raise TypeError("a goal is an object, an object id or a label")
-        if isinstance(goal, int):
-            if not 0 <= goal < self.object_count:
-                raise GoalNotFoundError(f"The goal node does not exist: object id {goal}")
-            return goal
-        if isinstance(goal, str):
-            ids = self._native.objects_with_label(goal)
-            if len(ids) == 1:
-                return int(ids[0])
-            if not ids:
-                raise GoalNotFoundError(f"The goal node does not exist: {goal}")
-            shown = "\n".join(f"  {self.object(i)}" for i in ids[:20])
-            more = f"\n  ... and {len(ids) - 20} more" if len(ids) > 20 else ""
-            raise GoalNotFoundError(
-                f"the label '{goal}' matches {len(ids)} objects; give states and container "
-                f"to choose one:\n{shown}{more}")
-        o = _as_object(goal)
-        i = self.find(o)
-        if i is None:
-            raise GoalNotFoundError(f"The goal node does not exist: {o}")
-        return i
+        if isinstance(goal, Object):
+            return self._native.goal_id(goal._fields())
+        if isinstance(goal, Mapping):
+            return self._native.goal_id(Object.from_dict(goal)._fields())
+        if isinstance(goal, int | str) and not isinstance(goal, bool):
+            return self._native.goal_id(goal)
+        raise TypeError(
+            "goal must be an Object, a mapping, an object id (int) or a label (str), "
+            f"not {_type(goal)}"
+        )
 
     def plan(
         self,
-        goal: ObjectLike | int | str,
+        goal: GoalLike,
         kitchen: KitchenLike = None,
         method: Method | str = "ids",
         *,
@@ -587,13 +888,12 @@ class Foon:
         ``optimal-success``, ``optimal-units``, ``optimal-inputs`` or ``bfs``. Sound unless
         ``compat="course"``, which reproduces the course code's trees byte for byte.
         """
-        return self.plan_many([goal], kitchen, method, compat=compat, count=count,
-                              motions=motions, utensils=utensils, default_rate=default_rate,
-                              threads=1)[0]
+        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        return p.plan(goal, method, compat=compat, count=count)
 
     def plan_many(
         self,
-        goals: Iterable[ObjectLike | int | str],
+        goals: Iterable[GoalLike],
         kitchen: KitchenLike = None,
         method: Method | str = "ids",
         *,
@@ -605,7 +905,9 @@ class Foon:
         threads: int | None = None,
     ) -> list[TaskTree]:
         """Plans many goals in one call: the kitchen is matched once, the interpreter is
-        released, and the goals are spread over ``threads`` threads (all cores by default)."""
+        released, and the goals are spread over ``threads`` threads (see
+        :meth:`Planner.plan_many`)."""
+        _check_goals(goals)
         p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
         return p.plan_many(goals, method, compat=compat, count=count, threads=threads)
 
@@ -618,8 +920,7 @@ class Foon:
         default_rate: float | None = None,
     ) -> Planner:
         """Prepares the kitchen, utensils and motion rates once, for many plans."""
-        return Planner(self, kitchen, motions=motions, utensils=utensils,
-                       default_rate=default_rate)
+        return Planner(self, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
 
     def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
         """Rank of every object from the kitchen: the fewest parallel steps that make it
@@ -637,23 +938,43 @@ class Foon:
         its units are written: each unit's needed inputs must be in the kitchen or made by an
         earlier unit, and the goal must be made. Also lists units that are not in this FOON."""
         t = tree if isinstance(tree, Foon) else Foon.load(tree)
-        d = self._native.verify_tree(t._native, _as_kitchen(kitchen)._tuples(),
-                                     _as_utensils(utensils), _as_object(goal)._tuple())
+        d = self._native.verify_tree(
+            t._native,
+            _as_kitchen(kitchen)._tuples(),
+            _as_utensils(utensils),
+            _as_object(goal, "goal")._tuple(),
+        )
         blocked = None
         if d["blocked"] is not None:
             pos, line, missing = d["blocked"]
-            blocked = Blocked(pos, line, [Object(m[0], tuple(m[1]), tuple(m[2]), m[3])
-                                          for m in missing])
-        return TreeCheck(valid=d["valid"], units=d["units"], goal_made=d["goal_made"],
-                         goal_absent=d["goal_absent"], blocked=blocked,
-                         foreign_units=[tuple(x) for x in d["foreign_units"]])
+            blocked = Blocked(pos, line, [_object(m) for m in missing])
+        return TreeCheck(
+            valid=d["valid"],
+            units=d["units"],
+            goal_made=d["goal_made"],
+            goal_absent=d["goal_absent"],
+            blocked=blocked,
+            foreign_units=[tuple(x) for x in d["foreign_units"]],
+        )
 
+
+def _check_goals(goals: object) -> None:
+    if isinstance(goals, str | bytes | Mapping | Object):
+        raise TypeError(
+            "goals must be an iterable of goals (objects, object ids or labels), not a single "
+            f"{_type(goals)}; use plan() for one goal"
+        )
+    if not hasattr(goals, "__iter__"):
+        raise TypeError(f"goals must be an iterable of goals, not {_type(goals)}")
 
 
 class Planner:
     """A FOON with a kitchen, utensils and motion rates prepared once: plan any number of
     goals without paying for the preparation again (it is what :meth:`Foon.plan` builds
-    for each call)."""
+    for each call). It pickles (the preparation is redone on loading)."""
+
+    __slots__ = ("__weakref__", "_native", "default_rate", "foon", "kitchen", "motions",
+                 "utensils")  # fmt: skip
 
     def __init__(
         self,
@@ -664,54 +985,93 @@ class Planner:
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
     ) -> None:
+        if not isinstance(foon, Foon):
+            raise TypeError(f"foon must be a Foon, not {_type(foon)}")
         self.foon = foon
         self.kitchen = _as_kitchen(kitchen)
         self.motions = _as_rates(motions)
         self.utensils = _as_utensils(utensils)
         self.default_rate = default_rate
         self._native = _foon.Planner(
-            foon._native, self.kitchen._tuples(), self.utensils,
-            None if self.motions is None else list(self.motions.items()), default_rate)
+            foon._native,
+            self.kitchen._tuples(),
+            self.utensils,
+            None if self.motions is None else list(self.motions.items()),
+            default_rate,
+        )
+
+    def __repr__(self) -> str:
+        rates = "no rates" if self.motions is None else f"{len(self.motions)} motion rates"
+        return (
+            f"<Planner {self.foon!r}: {len(self.kitchen)} kitchen items, "
+            f"{len(self.utensils)} utensils, {rates}>"
+        )
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (
+            _restore_planner,
+            (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate),
+        )
+
+    def _key(self) -> tuple[Any, ...]:
+        return (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Planner) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash((self.foon, self.kitchen, self.motions, tuple(self.utensils),
+                     self.default_rate))  # fmt: skip
 
     def plan(
         self,
-        goal: ObjectLike | int | str,
+        goal: GoalLike,
         method: Method | str = "ids",
         *,
         compat: Literal["course"] | None = None,
         count: Literal["nodes", "ingredients"] = "nodes",
     ) -> TaskTree:
         """Plans one goal (see :meth:`Foon.plan`)."""
-        return self.plan_many([goal], method, compat=compat, count=count, threads=1)[0]
+        raw = self._native.plan([self.foon.goal_id(goal)], method, compat or "sound", count, 1)
+        return TaskTree(self.foon, raw[0], self)
 
     def plan_many(
         self,
-        goals: Iterable[ObjectLike | int | str],
+        goals: Iterable[GoalLike],
         method: Method | str = "ids",
         *,
         compat: Literal["course"] | None = None,
         count: Literal["nodes", "ingredients"] = "nodes",
         threads: int | None = None,
     ) -> list[TaskTree]:
-        """Plans many goals, spread over ``threads`` threads (all cores by default)."""
-        if threads is not None and threads < 1:
-            raise ValueError("threads must be at least 1")
+        """Plans many goals, in order, spread over ``threads`` worker threads. ``threads`` is
+        always honoured (1 plans on one thread) but capped to the available parallelism
+        (``os.process_cpu_count()``-like, see ``foon._foon.max_threads()``) and to the number
+        of goals; ``None`` means the ``FOON_THREADS`` environment variable, else all cores.
+        The trees are the same for every thread count."""
+        _check_goals(goals)
         ids = [self.foon.goal_id(g) for g in goals]
-        raw = self._native.plan(ids, str(method), compat or "sound", count, threads)
-        return [self._tree(d) for d in raw]
+        raw = self._native.plan(ids, method, compat or "sound", count, threads)
+        return [TaskTree(self.foon, d, self) for d in raw]
 
     def ranks(self) -> list[int | None]:
         """Rank of every object: the fewest parallel steps that make it from the kitchen
         (None when it cannot be made)."""
         return list(self._native.ranks())
 
-    def _tree(self, plan: _foon.Plan) -> TaskTree:
-        return TaskTree(self.foon, plan, self)
+
+def _restore_planner(
+    foon: Foon,
+    kitchen: Kitchen,
+    motions: MotionRates | None,
+    utensils: list[str],
+    default_rate: float | None,
+) -> Planner:
+    return Planner(foon, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
 
 
-@dataclass(frozen=True)
-class Finding:
-    """One problem found by :func:`check`."""
+class Finding(_Frozen):
+    """One problem found by :func:`check` (its fields are also its ``__dict__``)."""
 
     path: str | None
     line: int
@@ -720,9 +1080,42 @@ class Finding:
     code: str
     message: str
 
+    def __init__(
+        self,
+        path: str | None,
+        line: int,
+        column: int,
+        severity: Literal["error", "warning", "note"],
+        code: str,
+        message: str,
+    ) -> None:
+        _set(self, "path", path)
+        _set(self, "line", line)
+        _set(self, "column", column)
+        _set(self, "severity", severity)
+        _set(self, "code", code)
+        _set(self, "message", message)
+
+    def _key(self) -> tuple[Any, ...]:
+        return (self.path, self.line, self.column, self.severity, self.code, self.message)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Finding) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __repr__(self) -> str:
+        return (
+            f"Finding(path={self.path!r}, line={self.line!r}, column={self.column!r}, "
+            f"severity={self.severity!r}, code={self.code!r}, message={self.message!r})"
+        )
+
     def __str__(self) -> str:
-        return (f"{self.path or '<string>'}:{self.line}:{self.column}: {self.severity}: "
-                f"{self.message} [{self.code}]")
+        return (
+            f"{self.path or '<string>'}:{self.line}:{self.column}: {self.severity}: "
+            f"{self.message} [{self.code}]"
+        )
 
 
 def check(
@@ -737,11 +1130,14 @@ def check(
     containers, objects reachable only through cycles; with a kitchen, objects that are used
     but never produced nor in it; with motion rates, motions without a rate. Files of object
     blocks (kitchens, goals) are checked as such."""
-    ps = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
+    ps = [paths] if isinstance(paths, _PATH_TYPES) else list(paths)
     rates = _as_rates(motions)
-    raw = _foon.check([os.fspath(p) for p in ps],
-                      None if kitchen is None else _as_kitchen(kitchen)._tuples(),
-                      None if rates is None else list(rates.items()), _as_utensils(utensils))
+    raw = _foon.check(
+        ps,
+        None if kitchen is None else _as_kitchen(kitchen)._tuples(),
+        None if rates is None else list(rates.items()),
+        _as_utensils(utensils),
+    )
     return [Finding(*f) for f in raw]  # type: ignore[arg-type]
 
 
@@ -750,10 +1146,11 @@ def load(path: PathLike, *, strict: bool = False) -> Foon:
     return Foon.load(path, strict=strict)
 
 
-@dataclass(frozen=True)
-class Example:
+class Example(_Frozen):
     """The small example FOON shipped with the package, with its kitchen, motion rates,
     utensils and goals (the first goal is the default one)."""
+
+    __slots__ = ("foon", "goals", "kitchen", "motions", "paths", "utensils")
 
     foon: Foon
     kitchen: Kitchen
@@ -762,19 +1159,46 @@ class Example:
     goals: list[Object]
     paths: dict[str, Path]
 
+    def __init__(
+        self,
+        foon: Foon,
+        kitchen: Kitchen,
+        motions: MotionRates,
+        utensils: list[str],
+        goals: list[Object],
+        paths: dict[str, Path],
+    ) -> None:
+        _set(self, "foon", foon)
+        _set(self, "kitchen", kitchen)
+        _set(self, "motions", motions)
+        _set(self, "utensils", utensils)
+        _set(self, "goals", goals)
+        _set(self, "paths", paths)
 
-def _data_path(name: str) -> Path:
-    return Path(str(resources.files("foon") / "data" / name))
+    def __repr__(self) -> str:
+        return f"<Example {self.foon!r}, {len(self.goals)} goals>"
+
+
+_EXAMPLE_FILES = (
+    ("foon", "example.foon"),
+    ("kitchen", "kitchen.json"),
+    ("motions", "motion.txt"),
+    ("utensils", "utensils.txt"),
+    ("goals", "goals.json"),
+)
 
 
 def example() -> Example:
     """Loads the embedded example (see ``foon/data/README.md``)."""
-    paths = {k: _data_path(n) for k, n in (("foon", "example.foon"), ("kitchen", "kitchen.json"),
-                                           ("motions", "motion.txt"),
-                                           ("utensils", "utensils.txt"),
-                                           ("goals", "goals.json"))}
-    goals = [Object(t[0], tuple(t[1]), tuple(t[2]), t[3])
-             for t in _foon.load_objects(os.fspath(paths["goals"]), "goal")]
-    return Example(load(paths["foon"]), Kitchen.load(paths["kitchen"]),
-                   MotionRates.load(paths["motions"]), load_utensils(paths["utensils"]), goals,
-                   paths)
+    from pathlib import Path
+
+    data = Path(__file__).parent / "data"
+    paths = {k: data / name for k, name in _EXAMPLE_FILES}
+    return Example(
+        load(paths["foon"]),
+        Kitchen.load(paths["kitchen"]),
+        MotionRates.load(paths["motions"]),
+        load_utensils(paths["utensils"]),
+        load_goals(paths["goals"]),
+        paths,
+    )
