@@ -5,9 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
-
 import foon
+import pytest
 
 README = Path(__file__).resolve().parents[1] / "python" / "foon" / "data" / "README.md"
 
@@ -25,7 +24,9 @@ COLUMNS = (
 def tree_table() -> dict[int, list[str]]:
     """Goal number -> the six cells of the README's "Trees" table."""
     lines = README.read_text(encoding="utf-8").splitlines()
-    start = next(i for i, line in enumerate(lines) if line.startswith("Trees (FUs in output order)"))
+    start = next(
+        i for i, line in enumerate(lines) if line.startswith("Trees (FUs in output order)")
+    )
     rows: dict[int, list[str]] = {}
     for line in lines[start + 1 :]:
         if rows and not line.startswith("|"):

@@ -28,16 +28,41 @@ def test_ctrl_c_stops_a_long_batch(tmp_path: Path, threads: str) -> None:
     f = tmp_path / "chain.foon"
     chain(f)
     k = tmp_path / "kitchen.json"
-    k.write_text(json.dumps([{"label": "item", "states": ["s0"], "ingredients": [],
-                              "container": None}]))
+    k.write_text(
+        json.dumps([{"label": "item", "states": ["s0"], "ingredients": [], "container": None}])
+    )
     goals = tmp_path / "goals.json"
-    goals.write_text(json.dumps([{"label": "item", "states": [f"s{N - i}"], "ingredients": [],
-                                  "container": None} for i in range(3000)]))
+    goals.write_text(
+        json.dumps(
+            [
+                {"label": "item", "states": [f"s{N - i}"], "ingredients": [], "container": None}
+                for i in range(3000)
+            ]
+        )
+    )
     out = tmp_path / "out"
     script = shutil.which("foon") or str(Path(sys.executable).parent / "foon")
-    p = subprocess.Popen([script, "plan", "--foon", str(f), "--kitchen", str(k), "--goals",
-                          str(goals), "--method", "ids", "--threads", threads, "--out", str(out)],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        [
+            script,
+            "plan",
+            "--foon",
+            str(f),
+            "--kitchen",
+            str(k),
+            "--goals",
+            str(goals),
+            "--method",
+            "ids",
+            "--threads",
+            threads,
+            "--out",
+            str(out),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     time.sleep(2.5)
     assert p.poll() is None, "the batch finished before it could be interrupted"
     sent = time.monotonic()
@@ -48,3 +73,51 @@ def test_ctrl_c_stops_a_long_batch(tmp_path: Path, threads: str) -> None:
     assert "foon: interrupted" in err and "Traceback" not in err
     assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
     assert not out.exists() or list(out.iterdir()) == []
+
+
+SCRIPT = """
+import json, signal, sys, time
+import foon
+
+class Stop(Exception):
+    pass
+
+def handler(signum, frame):
+    raise Stop("stopped by the handler")
+
+signal.signal(signal.SIGINT, handler)
+f = foon.load(sys.argv[1])
+p = f.planner([foon.Object("item", ("s0",))])
+goals = [foon.Object("item", (f"s{N - i}",)) for i in range(3000)]
+print("ready", flush=True)
+start = time.monotonic()
+try:
+    p.plan_many(goals, "ids", threads=int(sys.argv[2]))
+except Stop as e:
+    print("Stop", round(time.monotonic() - start, 1), e, flush=True)
+else:
+    print("finished", flush=True)
+""".replace("N - i", f"{N} - i")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("threads", ["1", "2"])
+def test_the_signal_handlers_exception_ends_a_python_call(tmp_path: Path, threads: str) -> None:
+    f = tmp_path / "chain.foon"
+    chain(f)
+    p = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT, str(f), threads],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "ready"
+    time.sleep(1.5)
+    assert p.poll() is None, "the batch finished before it could be interrupted"
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    stopped_after = time.monotonic() - sent
+    # The handler's own exception, not a generic KeyboardInterrupt, and promptly.
+    assert out.startswith("Stop") and "stopped by the handler" in out, out + err
+    assert "Traceback" not in err
+    assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
