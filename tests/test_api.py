@@ -350,6 +350,18 @@ def test_results_are_the_same_for_every_thread_count(course: Course) -> None:
             assert got == want, (method, threads)
 
 
+def test_foon_threads_gives_the_default(monkeypatch: pytest.MonkeyPatch) -> None:
+    ex = foon.example()
+    p = ex.foon.planner(ex.kitchen, motions=ex.motions, utensils=ex.utensils)
+    want = [t.units for t in p.plan_many(ex.goals)]
+    monkeypatch.setenv("FOON_THREADS", "1")
+    assert [t.units for t in p.plan_many(ex.goals)] == want
+    monkeypatch.setenv("FOON_THREADS", "many")
+    with pytest.raises(ValueError, match=r"^FOON_THREADS must be a positive integer, not 'many'$"):
+        p.plan_many(ex.goals)
+    assert [t.units for t in p.plan_many(ex.goals, threads=2)] == want  # explicit wins
+
+
 def os_threads() -> int:
     return len(os.listdir("/proc/self/task"))
 

@@ -107,6 +107,8 @@ def test_planner_and_trees_round_trip() -> None:
             assert u == t and u.to_dict() == t.to_dict()
             assert [fu.index for fu in u] == t.units and list(u) == list(t)
             assert u.is_valid() == t.is_valid()
+            for fu in t:
+                assert pickle.loads(pickle.dumps(fu)) == fu
     # One pickle of many trees stores their FOON once.
     many = pickle.dumps(trees)
     assert len(many) < 2 * len(pickle.dumps(trees[0]))
