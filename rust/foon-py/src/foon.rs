@@ -103,7 +103,7 @@ impl PyFoon {
         Ok(PyBytes::new(py, &data))
     }
 
-    /// Rebuilds a FOON from [`to_bytes`]'s output.
+    /// Rebuilds a FOON from the output of `to_bytes`.
     #[staticmethod]
     fn from_bytes(py: Python<'_>, data: &Bound<'_, PyBytes>) -> PyResult<Self> {
         let data = data.as_bytes().to_vec();

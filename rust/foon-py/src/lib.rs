@@ -1,7 +1,7 @@
 //! `foon._foon`: the thin `PyO3` layer over `foon-core`, cut along the pipeline: arguments in
-//! ([`convert`]), loaders ([`loaders`]), the parsed FOON ([`foon`], with its serialised form in
-//! [`serial`]), planning ([`planner`], results in [`plan`]) and errors out ([`errors`], with
-//! the one helper every heavy call goes through). No algorithm lives here.
+//! (`convert`), loaders (`loaders`), the parsed FOON (`foon`, with its serialised form in
+//! `serial`), planning (`planner`, results in `plan`) and errors out (`errors`, with the one
+//! helper every heavy call goes through). No algorithm lives here.
 // PyO3 hands arguments over as owned values extracted from Python objects.
 #![allow(clippy::needless_pass_by_value)]
 
