@@ -12,7 +12,8 @@
 //!   a call with fewer threads runs that many workers on it. Calls with different thread
 //!   counts never leave extra pools or threads behind.
 //! - Fork guard: a pool built in a parent process is never used in a forked child (its
-//!   threads do not exist there); the child builds its own on first use.
+//!   threads do not exist there); the child builds its own on first use. Forking while another
+//!   thread of the parent is inside a batch is not supported (as with any threaded library).
 //! - [`BatchOptions::cancel`] is polled by every worker before each goal and, through
 //!   [`Context::with_cancel`], during each search; once it answers true the batch returns
 //!   [`Error::Cancelled`].
