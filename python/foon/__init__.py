@@ -1045,10 +1045,10 @@ class Planner:
         threads: int | None = None,
     ) -> list[TaskTree]:
         """Plans many goals, in order, spread over ``threads`` worker threads. ``threads`` is
-        always honoured (1 plans on one thread) but capped to the available parallelism
-        (``os.process_cpu_count()``-like, see ``foon._foon.max_threads()``) and to the number
-        of goals; ``None`` means the ``FOON_THREADS`` environment variable, else all cores.
-        The trees are the same for every thread count."""
+        always honoured (1 plans on one thread), capped to the available parallelism of the
+        process and to the number of goals; ``None`` means the ``FOON_THREADS`` environment
+        variable, else all cores. The trees are the same for every thread count. Ctrl-C stops
+        the batch (``KeyboardInterrupt``)."""
         _check_goals(goals)
         ids = [self.foon.goal_id(g) for g in goals]
         raw = self._native.plan(ids, method, compat or "sound", count, threads)
