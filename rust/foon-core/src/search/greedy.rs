@@ -4,7 +4,7 @@
 //! recursion.
 
 use super::scratch::IdMap;
-use super::{Context, Plan, Query, tree};
+use super::{Context, Plan, Query, heuristic, tree};
 use crate::error::Result;
 use crate::index::NONE;
 
@@ -35,7 +35,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
      -> Result<()> {
         let start = buf.len();
         buf.extend_from_slice(foon.producers(o));
-        ctx.order(&mut buf[start..], query)?;
+        heuristic::order(ctx, &mut buf[start..], query)?;
         stack.push(Frame {
             obj: o,
             cands: (start, buf.len()),

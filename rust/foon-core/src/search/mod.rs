@@ -5,6 +5,7 @@
 mod course;
 mod forward;
 mod greedy;
+mod heuristic;
 mod ids;
 mod optimal;
 mod scratch;
@@ -383,50 +384,6 @@ impl<'a> Context<'a> {
         })
     }
 
-    /// Heuristic key of `fu` for `inputs` ordering (smaller is better).
-    fn input_count(&self, fu: u32, count: Count) -> usize {
-        let foon = self.foon;
-        let ins = foon.inputs(fu);
-        match count {
-            Count::Nodes => ins.len(),
-            Count::Ingredients => {
-                let mut labels: Vec<u32> = Vec::new();
-                for &o in ins {
-                    let ing = foon.ingredients(o);
-                    if ing.is_empty() {
-                        labels.push(foon.label(o));
-                    } else {
-                        labels.extend_from_slice(ing);
-                    }
-                }
-                labels.sort_unstable();
-                labels.dedup();
-                labels.len()
-            }
-        }
-    }
-
-    /// Orders `cands` best first for the heuristic of `query` (stable: ties keep index order).
-    fn order(&self, cands: &mut [u32], query: Query) -> Result<()> {
-        match query.method {
-            Method::GreedySuccess => {
-                for &f in cands.iter() {
-                    self.rate(f)?;
-                }
-                cands.sort_by(|&a, &b| {
-                    self.fu_rate[b as usize]
-                        .total_cmp(&self.fu_rate[a as usize])
-                        .then(a.cmp(&b))
-                });
-            }
-            Method::GreedyInputs => {
-                cands.sort_by_key(|&f| (self.input_count(f, query.count), f));
-            }
-            _ => cands.sort_unstable(),
-        }
-        Ok(())
-    }
-
     /// Plans one goal.
     pub fn plan(&self, goal: u32, query: Query) -> Result<Plan> {
         let start = Instant::now();
@@ -613,3 +570,4 @@ pub fn plan_many(ctx: &Context<'_>, goals: &[u32], query: Query) -> Vec<Result<P
     let _ = ctx.ranks();
     goals.par_iter().map(|&g| ctx.plan(g, query)).collect()
 }
+
