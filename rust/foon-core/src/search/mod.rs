@@ -15,11 +15,11 @@ use std::str::FromStr;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::companion::{MotionRates, ObjectSpec};
 use crate::error::{Error, Result};
-use crate::index::{Csr, Foon};
+use crate::index::{Csr, Foon, NONE};
 
 pub use forward::Ranks;
 
@@ -541,20 +541,34 @@ pub struct TreeMetrics {
 
 /// Needed inputs of every FU: the container rule removes an input whose label is a utensil
 /// and whose ingredients are exactly `[x]` when another input of the FU is labelled `x` and
-/// sits in that utensil.
+/// sits in that utensil. Linear in the inputs: the (label, container) pairs of an FU's inputs
+/// are counted once, and an input's own pair is not "another input".
 fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
     let mut out = Csr::new();
     let mut row = Vec::new();
+    let mut held: FxHashMap<(u32, u32), u32> = FxHashMap::default();
     for f in 0..foon.fu_count() as u32 {
         let ins = foon.inputs(f);
         row.clear();
-        for (i, &o) in ins.iter().enumerate() {
-            let ing = foon.ingredients(o);
-            let skip = ing.len() == 1
-                && utensils.contains(&foon.label(o))
-                && ins.iter().enumerate().any(|(j, &p)| {
-                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
-                });
+        // Only an input that holds one ingredient in a utensil can be skipped.
+        let holder = |o: u32| foon.ingredients(o).len() == 1 && utensils.contains(&foon.label(o));
+        if !ins.iter().any(|&o| holder(o)) {
+            out.push_row(ins);
+            continue;
+        }
+        held.clear();
+        for &p in ins {
+            let c = foon.container(p);
+            if c != NONE {
+                *held.entry((foon.label(p), c)).or_default() += 1;
+            }
+        }
+        for &o in ins {
+            let skip = holder(o) && {
+                let pair = (foon.ingredients(o)[0], foon.label(o));
+                let own = u32::from((foon.label(o), foon.container(o)) == pair);
+                held.get(&pair).copied().unwrap_or(0) > own
+            };
             if !skip {
                 row.push(o);
             }
@@ -571,3 +585,94 @@ pub fn plan_many(ctx: &Context<'_>, goals: &[u32], query: Query) -> Vec<Result<P
     goals.par_iter().map(|&g| ctx.plan(g, query)).collect()
 }
 
+#[cfg(test)]
+mod tests {
+    use std::fmt::Write as _;
+
+    use rustc_hash::FxHashSet;
+
+    use super::needed_inputs;
+    use crate::index::Foon;
+    use crate::parse::{ParseOptions, parse_foon};
+
+    /// The container rule as written in `docs/METHODS.md`: for each input, look at every other
+    /// position of the FU's input list.
+    fn quadratic(foon: &Foon, utensils: &FxHashSet<u32>, f: u32) -> Vec<u32> {
+        let ins = foon.inputs(f);
+        let mut row = Vec::new();
+        for (i, &o) in ins.iter().enumerate() {
+            let ing = foon.ingredients(o);
+            let skip = ing.len() == 1
+                && utensils.contains(&foon.label(o))
+                && ins.iter().enumerate().any(|(j, &p)| {
+                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
+                });
+            if !skip {
+                row.push(o);
+            }
+        }
+        row
+    }
+
+    /// The linear container rule gives the quadratic definition's needed inputs on random
+    /// FUs: utensils holding one or two ingredients, inputs in the right or another container,
+    /// a utensil that holds itself and sits in itself, the same input several times.
+    #[test]
+    fn linear_container_rule_matches_the_definition() {
+        const LABELS: [&str; 5] = ["bowl", "pot", "egg", "salt", "bowl2"];
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n) as usize
+        };
+        let mut skipped = 0;
+        for round in 0..300 {
+            let mut text = String::new();
+            for _ in 0..=next(6) {
+                let mut objs: Vec<String> = Vec::new();
+                for _ in 0..next(12) {
+                    let mut o = format!("O\t{}\n", LABELS[next(5)]);
+                    match next(4) {
+                        0 => {}
+                        1 => {
+                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
+                        }
+                        2 => {
+                            let (a, b) = (LABELS[next(5)], LABELS[next(5)]);
+                            let _ = writeln!(o, "S\tcontains\t{{{a},{b}}}");
+                        }
+                        _ => {
+                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
+                            let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
+                        }
+                    }
+                    if next(2) == 0 {
+                        let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
+                    }
+                    if next(3) == 0 && !objs.is_empty() {
+                        o = objs[next(objs.len() as u64)].clone(); // a duplicate input
+                    }
+                    objs.push(o);
+                }
+                for o in &objs {
+                    text.push_str(o);
+                }
+                text.push_str("M\tmix\nO\tdone\nS\tx\n//\n");
+            }
+            let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+            let utensils: FxHashSet<u32> = ["bowl", "pot", "bowl2"]
+                .iter()
+                .take(1 + round % 3)
+                .filter_map(|u| foon.strings().get(u))
+                .collect();
+            let linear = needed_inputs(&foon, &utensils);
+            for f in 0..foon.fu_count() as u32 {
+                assert_eq!(linear.row(f), quadratic(&foon, &utensils, f), "{text}");
+                skipped += foon.inputs(f).len() - linear.row(f).len();
+            }
+        }
+        assert!(skipped > 100, "the rule skipped only {skipped} inputs");
+    }
+}
