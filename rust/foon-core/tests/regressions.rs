@@ -118,3 +118,96 @@ fn edge_inputs_do_not_panic() {
         let _ = parse_utensils(data, None);
     }
 }
+
+// --- planning ----------------------------------------------------------------------------------
+
+use foon_core::search::{Compat, Context, Count, Method, Query};
+use foon_core::{Foon, MotionRates, ObjectSpec};
+
+fn spec(label: &str, state: &str) -> ObjectSpec {
+    ObjectSpec {
+        label: label.into(),
+        states: vec![state.into()],
+        ingredients: Vec::new(),
+        container: None,
+    }
+}
+
+fn load(text: &str) -> Foon {
+    parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap()
+}
+
+fn query(method: Method, compat: Compat) -> Query {
+    Query {
+        method,
+        compat,
+        count: Count::Nodes,
+    }
+}
+
+/// `bfs` ran the course loop but reported compat "sound" (and `solved` for trees that cannot
+/// run) when asked for the sound form.
+#[test]
+fn bfs_is_always_labelled_course() {
+    // The dish's first producer needs the dish itself: the course tree cannot run.
+    let text = "O\tdish\nS\tdone\nM\tmix\nO\tdish\nS\tdone\n//\n";
+    let foon = load(text);
+    let ctx = Context::new(&foon, &[], &[], None, None).unwrap();
+    for compat in [Compat::Sound, Compat::Course] {
+        let plan = ctx.plan(0, query(Method::Bfs, compat)).unwrap();
+        assert_eq!(plan.query.compat, Compat::Course);
+        assert_eq!(plan.units, [0]);
+        assert!(!ctx.is_valid(&plan.units, 0));
+    }
+}
+
+/// A tree whose motion is missing from a given rate table got `success: None` from `bfs` and
+/// `ids` without saying why; methods that choose by rate fail with the motion's name.
+#[test]
+fn a_missing_rate_is_named() {
+    // a (kitchen) -chop-> b -mix-> c; "chop" has no rate.
+    let text = "O\ta\nS\tx\nM\tchop\nO\tb\nS\tx\n//\nO\tb\nS\tx\nM\tmix\nO\tc\nS\tx\n//\n";
+    let foon = load(text);
+    let kitchen = [spec("a", "x")];
+    let rates = MotionRates::from_pairs([("mix".to_owned(), 0.5)]).unwrap();
+    let ctx = Context::new(&foon, &kitchen, &[], Some(&rates), None).unwrap();
+    let c = ctx.goal(&spec("c", "x")).unwrap();
+    for q in [
+        query(Method::Bfs, Compat::Course),
+        query(Method::Ids, Compat::Sound),
+        query(Method::Ids, Compat::Course),
+        query(Method::GreedyInputs, Compat::Sound),
+        query(Method::GreedyInputs, Compat::Course),
+        query(Method::OptimalUnits, Compat::Sound),
+        query(Method::OptimalInputs, Compat::Sound),
+    ] {
+        let plan = ctx.plan(c, q).unwrap();
+        assert_eq!(plan.units, [0, 1], "{q:?}");
+        assert_eq!((plan.success, plan.unrated), (None, Some(0)), "{q:?}");
+    }
+    for q in [
+        query(Method::GreedySuccess, Compat::Sound),
+        query(Method::GreedySuccess, Compat::Course),
+        query(Method::OptimalSuccess, Compat::Sound),
+    ] {
+        match ctx.plan(c, q) {
+            Err(Error::MissingRate { motion }) => assert_eq!(motion, "chop", "{q:?}"),
+            other => panic!("{q:?}: {other:?}"),
+        }
+    }
+    // A default rate fills the gap; without a table nothing is missing.
+    let with_default = Context::new(&foon, &kitchen, &[], Some(&rates), Some(0.25)).unwrap();
+    let no_table = Context::new(&foon, &kitchen, &[], None, None).unwrap();
+    for method in Method::ALL {
+        let plan = with_default.plan(c, query(method, Compat::Sound)).unwrap();
+        assert_eq!(
+            (plan.success, plan.unrated),
+            (Some(0.125), None),
+            "{method:?}"
+        );
+        if !method.uses_rates() {
+            let plan = no_table.plan(c, query(method, Compat::Sound)).unwrap();
+            assert_eq!((plan.success, plan.unrated), (None, None), "{method:?}");
+        }
+    }
+}

@@ -164,7 +164,13 @@ pub struct Plan {
     /// Sound methods that failed: why.
     pub explanation: Option<Explanation>,
     pub height: Option<u32>,
+    /// Product of the motion rates of the units; `None` without a rate table, or when a unit's
+    /// motion has no rate (then `unrated` names the first such unit).
     pub success: Option<f64>,
+    /// When a rate table was given: the first unit (in output order) whose motion has no
+    /// rate, which is why `success` is `None`. Only methods that do not choose by rate can
+    /// return such a tree (the others fail with [`Error::MissingRate`]).
+    pub unrated: Option<u32>,
     /// Optimal methods: the optimum of the cost they minimise.
     pub cost: Option<f64>,
     pub leaf_inputs: usize,
@@ -390,6 +396,16 @@ impl<'a> Context<'a> {
         if goal as usize >= self.foon.object_count() {
             return Err(Error::Invalid(format!("object {goal} is out of range")));
         }
+        // `bfs` is the course loop, whatever compatibility was asked for: its trees are
+        // labelled course, never sound.
+        let query = if query.method == Method::Bfs {
+            Query {
+                compat: Compat::Course,
+                ..query
+            }
+        } else {
+            query
+        };
         let mut plan = match (query.compat, query.method) {
             (
                 Compat::Course,
@@ -400,7 +416,7 @@ impl<'a> Context<'a> {
                     query.method.as_str()
                 )));
             }
-            (_, Method::Bfs) | (Compat::Course, _) => course::plan(self, goal, query)?,
+            (Compat::Course, _) => course::plan(self, goal, query)?,
             (Compat::Sound, method) => {
                 if self.in_kitchen(goal) {
                     let mut p = self.empty_plan(goal, query);
@@ -443,6 +459,7 @@ impl<'a> Context<'a> {
             explanation: None,
             height: None,
             success: None,
+            unrated: None,
             cost: None,
             leaf_inputs: 0,
             expanded: 0,
@@ -455,6 +472,7 @@ impl<'a> Context<'a> {
         let m = self.metrics(&plan.units, plan.goal);
         plan.height = m.height;
         plan.success = m.success;
+        plan.unrated = m.unrated;
         plan.leaf_inputs = m.leaf_inputs;
     }
 
@@ -465,10 +483,20 @@ impl<'a> Context<'a> {
         } else {
             forward::unit_ranks(self, units).made(goal)
         };
-        let success = if self.rates_given {
+        let unrated = if self.rates_given {
             units
                 .iter()
-                .try_fold(1.0, |acc, &f| self.rate(f).ok().map(|r| acc * r))
+                .copied()
+                .find(|&f| self.fu_rate.get(f as usize).is_none_or(|r| r.is_nan()))
+        } else {
+            None
+        };
+        let success = if self.rates_given && unrated.is_none() {
+            Some(
+                units
+                    .iter()
+                    .fold(1.0, |acc, &f| acc * self.fu_rate[f as usize]),
+            )
         } else {
             None
         };
@@ -483,6 +511,7 @@ impl<'a> Context<'a> {
         TreeMetrics {
             height,
             success,
+            unrated,
             leaf_inputs: seen.len(),
         }
     }
@@ -535,7 +564,10 @@ impl<'a> Context<'a> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TreeMetrics {
     pub height: Option<u32>,
+    /// `None` without a rate table or when a unit's motion has no rate (`unrated`).
     pub success: Option<f64>,
+    /// With a rate table: the first unit whose motion has no rate.
+    pub unrated: Option<u32>,
     pub leaf_inputs: usize,
 }
 
