@@ -45,39 +45,52 @@ def ladder_kitchen(width: int) -> list[Item]:
     return [("spice", f"k{j}") for j in range(width + 1)]
 
 
-def ladder_units(levels: int, width: int = 2, back_to: int = 0, producers: int = 0) -> list[Unit]:
-    """A "ladder": rung ``r1`` has ``width`` producers, each needing rung ``r2`` and its own
-    kitchen item, and so on down to rung ``r{levels}``, whose producers need ``back_to``: the
-    goal itself when 0 (on the path, so they are skipped), else rung ``r{back_to}`` (a cycle
-    back to the middle of the path; that rung can also be made from kitchen items, tried after
-    its ladder producers, so the search succeeds there after failing below it). The goal
-    ``dish done`` is made first from ``r1`` (the ladder), then by ``producers`` units that need
-    an object nobody makes, and last from kitchen items alone, so everything is derivable.
+def ladder_units(
+    levels: int, width: int = 2, back_to: int = 0, producers: int = 0, objects: int = 1
+) -> list[Unit]:
+    """A "ladder": each of the ``objects`` rungs of level 1 has ``width`` producers, each needing
+    every rung of level 2 and its own kitchen item, and so on down to level ``levels``, whose
+    producers need ``back_to``: the goal itself when 0 (on the path, so they are skipped), else
+    the first rung of level ``back_to`` (a cycle back to the middle of the path; that rung can
+    also be made from kitchen items, tried after its ladder producers, so the search succeeds
+    there after failing below it). The goal ``dish done`` is made first from level 1 (the
+    ladder), then by ``producers`` units that need an object nobody makes, and last from
+    kitchen items alone, so everything is derivable.
 
-    A search that forgets its failures explores the bottom rung once per combination of the
+    A search that forgets its failures explores the bottom level once per combination of the
     choices above it: ``width ** levels`` times.
     """
     assert levels >= 1 and width >= 1 and 0 <= back_to <= levels and producers >= 0
+    assert objects >= 1
     k = ladder_kitchen(width)
-    plain = (k[0], k[1 % len(k)])
+    # As many inputs as a ladder unit, so that no heuristic prefers it.
+    plain = tuple(k[j % len(k)] for j in range(objects + 1))
 
-    def rung(i: int) -> Item:
-        return ("rung", f"r{i}")
+    def level(i: int) -> tuple[Item, ...]:
+        if objects == 1:
+            return (("rung", f"r{i}"),)
+        return tuple(("rung", f"r{i}.{a}") for a in range(objects))
 
-    units: list[Unit] = [((rung(1), k[0]), "mix", (LADDER_GOAL,))]
+    units: list[Unit] = [((*level(1), k[0]), "mix", (LADDER_GOAL,))]
     for i in range(1, levels + 1):
-        below = rung(i + 1) if i < levels else (LADDER_GOAL if back_to == 0 else rung(back_to))
-        units += [((below, k[j]), "mix", (rung(i),)) for j in range(width)]
+        if i < levels:
+            below = level(i + 1)
+        else:
+            below = (LADDER_GOAL,) if back_to == 0 else level(back_to)[:1]
+        for r in level(i):
+            units += [((*below, k[j]), "mix", (r,)) for j in range(width)]
     units += [((("ghost", f"g{j}"), k[0]), "mix", (LADDER_GOAL,)) for j in range(producers)]
     if back_to:
-        units.append((plain, "mix", (rung(back_to),)))
+        units.append((plain, "mix", level(back_to)[:1]))
     units.append((plain, "mix", (LADDER_GOAL,)))
     return units
 
 
-def ladder_text(levels: int, width: int = 2, back_to: int = 0, producers: int = 0) -> str:
+def ladder_text(
+    levels: int, width: int = 2, back_to: int = 0, producers: int = 0, objects: int = 1
+) -> str:
     """The text of :func:`ladder_units`."""
-    return units_text(ladder_units(levels, width, back_to, producers))
+    return units_text(ladder_units(levels, width, back_to, producers, objects))
 
 
 def alternation_units(levels: int, width: int = 2) -> list[Unit]:

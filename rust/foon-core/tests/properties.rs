@@ -251,6 +251,30 @@ fn assert_greedy_is_plain(text: &str, kmask: &[bool]) -> Result<(), TestCaseErro
     Ok(())
 }
 
+/// A graph on which a memory of failures that ignored the path would give another tree for
+/// node 4 (found by a random search; also in `tests/test_adversarial.py`).
+#[test]
+fn a_failure_that_depends_on_the_path_is_not_reused_off_it() {
+    let g: Vec<Vec<Vec<usize>>> = vec![
+        vec![],
+        vec![vec![3], vec![2], vec![0]],
+        vec![vec![6, 3, 1], vec![1, 7], vec![6, 5, 7]],
+        vec![vec![6], vec![3, 6, 2]],
+        vec![vec![1, 3, 8]],
+        vec![vec![0, 6]],
+        vec![vec![3], vec![0, 4, 3], vec![7, 9]],
+        vec![vec![9, 3], vec![1]],
+        vec![vec![0, 6], vec![2, 4, 7], vec![0]],
+        vec![vec![1, 7], vec![8], vec![6, 0, 5]],
+    ];
+    let text = graph_text(&g);
+    let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+    let kmask: Vec<bool> = (0..foon.object_count() as u32)
+        .map(|o| foon.text(foon.states(o)[0]) == "0")
+        .collect();
+    assert_greedy_is_plain(&text, &kmask).unwrap();
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 400, .. ProptestConfig::default() })]
 
