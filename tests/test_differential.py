@@ -742,7 +742,9 @@ def test_a_motion_of_rate_zero_is_never_used() -> None:
         assert tree.solved == (cfg.method != "optimal-success"), cfg
         if not tree.solved:
             assert tree.missing == [] and tree.cycle == []
-            assert tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            assert (
+                tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            )
     (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], {"mix": 0.0, "chop": 0.5},
                             Config("optimal-success", None, "nodes"))  # fmt: skip
     assert tree.units == [1] and tree.cost == 0.5
