@@ -249,6 +249,31 @@ def bench_ladder(sizes: list[int], repeat: int, methods: list[str] | None = None
         print(f"| {n:,} | {f.fu_count:,} | " + " | ".join(cells) + " |")
 
 
+def container_text(n: int, held: bool) -> str:
+    """One unit with n inputs: `bowl` holding `egg{i}`, and (held) `egg{i}` in the bowl next to
+    it, which the container rule skips; else n holders with nothing in the bowl, which it must
+    all check."""
+    pair = "O\tbowl\nS\tcontains\t{{egg{i}}}\n" + ("O\tegg{i}\nS\tin\t[bowl]\n" if held else "")
+    count = n // 2 if held else n
+    return "".join(pair.format(i=i) for i in range(count)) + "M\tmix\nO\tbatter\nS\tmixed\n//\n"
+
+
+def bench_container(n: int, repeat: int) -> None:
+    """The container rule on one unit with n inputs (`Foon.plan` prepares the planner, which
+    applies the rule, on every call)."""
+    print(f"\n### The container rule on one unit with {n:,} inputs (utensil `bowl`)\n")
+    print("| the unit's inputs | plan (container rule included) |")
+    print("|---|---:|")
+    goal = foon.Object("batter", ("mixed",))
+    for held in (True, False):
+        f = foon.Foon.from_text(container_text(n, held))
+        t = timeit(partial(f.plan, goal, [], "ids", utensils=["bowl"]), repeat)
+        what = (
+            "bowls holding an egg, each egg in the bowl" if held else "bowls holding an egg, no egg"
+        )
+        print(f"| {what} | {fmt(t)} |")
+
+
 def bench_memory(data: Path, n: int) -> None:
     """Peak memory of loading a file, against its size, for foon and the reference parser."""
     if not can_measure_memory():
@@ -280,7 +305,9 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--data", type=Path, default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
-    p.add_argument("--only", choices=["parse", "plan", "size", "scale", "ladder", "memory"])
+    p.add_argument(
+        "--only", choices=["parse", "plan", "size", "scale", "ladder", "container", "memory"]
+    )
     p.add_argument(
         "--ladder",
         type=int,
@@ -314,6 +341,8 @@ def main() -> None:
         bench_scale(a.chain, a.small_chain, a.repeat)
     if a.only in (None, "ladder"):
         bench_ladder(a.ladder, a.repeat, a.methods)
+    if a.only in (None, "container"):
+        bench_container(40_000, a.repeat)
     if a.only in (None, "memory"):
         bench_memory(a.data, a.chain)
 
