@@ -171,22 +171,19 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                     dedup_tail(&mut deps, from);
                     memo.record(o, epoch, &deps[from..]);
                     // The parent inherits the dependencies, except its own object.
-                    if let Some(parent) = stack.last() {
-                        let p = parent.obj;
+                    if let Some(parent) = stack.last_mut() {
                         let mut w = from;
                         for r in from..deps.len() {
-                            if deps[r] != p {
+                            if deps[r] != parent.obj {
                                 deps[w] = deps[r];
                                 w += 1;
                             }
                         }
                         deps.truncate(w);
-                        if let Some(parent) = stack.last_mut() {
-                            let len = deps.len() - parent.deps_start;
-                            if len > 2 * parent.deps_clean + 16 {
-                                dedup_tail(&mut deps, parent.deps_start);
-                                parent.deps_clean = deps.len() - parent.deps_start;
-                            }
+                        // Keep the parent's segment within twice its distinct size.
+                        if deps.len() - parent.deps_start > 2 * parent.deps_clean + 16 {
+                            dedup_tail(&mut deps, parent.deps_start);
+                            parent.deps_clean = deps.len() - parent.deps_start;
                         }
                     }
                 } else {
