@@ -1,6 +1,6 @@
 """foon benchmarks: the Rust core against pure-Python baselines, side by side in one run.
 
-    python benchmarks/run.py [--data ../shared/data/foon] [--repeat 5]
+    python benchmarks/run.py [--data ../shared/data/foon] [--repeat 5] [--only SECTION]
 
 Prints Markdown tables (ratios are what matter: machines are noisy). Build the wheel in
 release mode first (scripts/test does; or `maturin develop --release`)."""
@@ -24,11 +24,16 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests"))
 
-import course_parser  # noqa: E402
-import foon_reference as ref  # noqa: E402
-from workloads import can_measure_memory, chain_text, load_memory  # noqa: E402
-
-import foon  # noqa: E402
+import course_parser
+import foon
+import foon_reference as ref
+from workloads import (
+    can_measure_memory,
+    chain_text,
+    ladder_kitchen,
+    ladder_text,
+    load_memory,
+)
 
 
 def timeit(fn: Callable[[], object], repeat: int) -> float:
@@ -54,22 +59,41 @@ def bench_parse(data: Path, repeat: int) -> None:
     course_py = timeit(lambda: course_parser.parse(path), 1)
     kept, objs, prods = course_parser.parse(path)
     f = foon.load(path)
-    assert (len(kept), len(objs), len(prods)) == (f.fu_count, f.object_count,
-                                                  f.stats()["produced_objects"])
+    assert (len(kept), len(objs), len(prods)) == (
+        f.fu_count,
+        f.object_count,
+        f.stats()["produced_objects"],
+    )
     print("\n### Parsing the course FOON.txt (2,376 units, 4,305 objects)\n")
     print("| parser | time | foon is faster by |")
     print("|---|---:|---:|")
     print(f"| foon (Rust core, from Python) | {fmt(rust)} | 1x |")
-    print(f"| pure Python, course rules (list lookups, as the course scripts) | {fmt(course_py)} "
-          f"| {course_py / rust:,.0f}x |")
-    print(f"| pure Python, dict lookups (tests/foon_reference.py) | {fmt(dict_py)} "
-          f"| {dict_py / rust:,.0f}x |")
+    print(
+        f"| pure Python, course rules (list lookups, as the course scripts) | {fmt(course_py)} "
+        f"| {course_py / rust:,.0f}x |"
+    )
+    print(
+        f"| pure Python, dict lookups (tests/foon_reference.py) | {fmt(dict_py)} "
+        f"| {dict_py / rust:,.0f}x |"
+    )
+
+
+def ref_plan_all(rf: ref.RefFoon, goals: list[foon.Object], *args: object) -> list[ref.RefResult]:
+    """The reference's plans of `goals` (the remaining arguments as `ref.plan` takes them)."""
+    return [ref.plan(rf, g.identity(), *args) for g in goals]
 
 
 PLAN_CASES: list[tuple[str, str | None]] = [
-    ("bfs", "course"), ("greedy-success", "course"), ("greedy-inputs", "course"),
-    ("ids", None), ("greedy-success", None), ("greedy-inputs", None),
-    ("optimal-success", None), ("optimal-units", None), ("optimal-inputs", None)]
+    ("bfs", "course"),
+    ("greedy-success", "course"),
+    ("greedy-inputs", "course"),
+    ("ids", None),
+    ("greedy-success", None),
+    ("greedy-inputs", None),
+    ("optimal-success", None),
+    ("optimal-units", None),
+    ("optimal-inputs", None),
+]
 
 
 def bench_plan(data: Path, repeat: int) -> None:
@@ -77,7 +101,9 @@ def bench_plan(data: Path, repeat: int) -> None:
     kitchen = foon.Kitchen.load(data / "kitchen.json")
     motions = foon.MotionRates.load(data / "motion.txt")
     utensils = foon.load_utensils(data / "utensils.txt")
-    goals = [foon.Object.from_dict(d) for d in json.loads((data / "goal_nodes_25.json").read_text())]
+    goals = [
+        foon.Object.from_dict(d) for d in json.loads((data / "goal_nodes_25.json").read_text())
+    ]
     rf = ref.parse((data / "FOON.txt").read_text(encoding="utf-8"))
     rk = ref.read_kitchen_json((data / "kitchen.json").read_text())
     ru = ref.read_utensils((data / "utensils.txt").read_text())
@@ -89,23 +115,30 @@ def bench_plan(data: Path, repeat: int) -> None:
     planner = f.planner(kitchen, motions=motions, utensils=utensils)
     ids = [f.goal_id(g) for g in goals]
     print("\n### Planning the 25 course goals (course kitchen), plans per second\n")
-    print(f"Preparing the planner (matching the 1,174-item kitchen, container rule, rates) takes "
-          f"{fmt(prep)} once; `Foon.plan` does it on every call, `Foon.planner()` once.\n")
+    print(
+        f"Preparing the planner (matching the 1,174-item kitchen, container rule, rates) takes "
+        f"{fmt(prep)} once; `Foon.plan` does it on every call, `Foon.planner()` once.\n"
+    )
     big = ids * 40  # the 25 goals 40 times over: 1,000 plans a call (nothing is cached)
-    print("Each call plans the 25 goals (`Planner.plan_many`); the batch column plans them 40 "
-          "times over in one call (1,000 plans), which is how throughput is measured.\n")
-    print(f"| method | foon, 1 thread | foon, {cores} threads | foon, {cores} threads, batch "
-          "of 1,000 | pure-Python reference | foon (1 thread) is faster by |")
+    print(
+        "Each call plans the 25 goals (`Planner.plan_many`); the batch column plans them 40 "
+        "times over in one call (1,000 plans), which is how throughput is measured.\n"
+    )
+    print(
+        f"| method | foon, 1 thread | foon, {cores} threads | foon, {cores} threads, batch "
+        "of 1,000 | pure-Python reference | foon (1 thread) is faster by |"
+    )
     print("|---|---:|---:|---:|---:|---:|")
     for method, compat in cases:
-        one = timeit(lambda: planner.plan_many(ids, method, compat=compat, threads=1), repeat)  # type: ignore[arg-type]
-        allc = timeit(lambda: planner.plan_many(ids, method, compat=compat), repeat)  # type: ignore[arg-type]
-        batch = timeit(lambda: planner.plan_many(big, method, compat=compat), max(1, repeat // 2))  # type: ignore[arg-type]
+        one = timeit(partial(planner.plan_many, ids, method, compat=compat, threads=1), repeat)  # type: ignore[arg-type]
+        allc = timeit(partial(planner.plan_many, ids, method, compat=compat), repeat)  # type: ignore[arg-type]
+        batch = timeit(partial(planner.plan_many, big, method, compat=compat), max(1, repeat // 2))  # type: ignore[arg-type]
         name = f"{method}" + (" (course)" if compat else "")
-        py = timeit(lambda: [ref.plan(rf, g.identity(), rk, ru, rr, method, compat)
-                             for g in goals], 1)
-        print(f"| {name} | {n / one:,.0f} | {n / allc:,.0f} | {len(big) / batch:,.0f} "
-              f"| {n / py:,.0f} | {py / one:,.0f}x |")
+        py = timeit(partial(ref_plan_all, rf, goals, rk, ru, rr, method, compat), 1)
+        print(
+            f"| {name} | {n / one:,.0f} | {n / allc:,.0f} | {len(big) / batch:,.0f} "
+            f"| {n / py:,.0f} | {py / one:,.0f}x |"
+        )
 
 
 def bench_foon_size(data: Path, copies: int, repeat: int) -> None:
@@ -113,27 +146,32 @@ def bench_foon_size(data: Path, copies: int, repeat: int) -> None:
     renamed copies of it (labels suffixed, so the copies share nothing with the kitchen or the
     goals): the same trees, so any difference is what the size of the FOON costs a plan."""
     text = (data / "FOON.txt").read_text(encoding="utf-8")
-    big = text + "".join(re.sub(r"^O\t(.*)$", rf"O\t\1 copy{k}", text, flags=re.M)
+    big = text + "".join(re.sub(r"^O\t(.*)$", rf"O\t\1 copy{k}", text, flags=re.MULTILINE)
                          for k in range(1, copies))  # fmt: skip
     small_foon, big_foon = foon.Foon.from_text(text), foon.Foon.from_text(big)
     kitchen = foon.Kitchen.load(data / "kitchen.json")
     motions = foon.MotionRates.load(data / "motion.txt")
     utensils = foon.load_utensils(data / "utensils.txt")
-    goals = [foon.Object.from_dict(d) for d in json.loads((data / "goal_nodes_25.json").read_text())]
+    goals = [
+        foon.Object.from_dict(d) for d in json.loads((data / "goal_nodes_25.json").read_text())
+    ]
     planners = []
     for f in (small_foon, big_foon):
         p = f.planner(kitchen, motions=motions, utensils=utensils)
         planners.append((p, [f.goal_id(g) for g in goals]))
-    print(f"\n### Plans per second and the size of the FOON: the course FOON and {copies} copies "
-          f"of it ({small_foon.object_count:,} and {big_foon.object_count:,} objects)\n")
-    print("| method | course FOON, 1 thread | "
-          f"{copies} copies, 1 thread | ratio |")
+    print(
+        f"\n### Plans per second and the size of the FOON: the course FOON and {copies} copies "
+        f"of it ({small_foon.object_count:,} and {big_foon.object_count:,} objects)\n"
+    )
+    print(f"| method | course FOON, 1 thread | {copies} copies, 1 thread | ratio |")
     print("|---|---:|---:|---:|")
     for method, compat in PLAN_CASES:
-        trees = [[t.units for t in p.plan_many(ids, method, compat=compat)]  # type: ignore[arg-type]
-                 for p, ids in planners]
+        trees = [
+            [t.units for t in p.plan_many(ids, method, compat=compat)]  # type: ignore[arg-type]
+            for p, ids in planners
+        ]
         assert trees[0] == trees[1], method  # the same trees on both FOONs
-        rates = [len(ids) / timeit(partial(p.plan_many, ids, method, compat=compat, threads=1),
+        rates = [len(ids) / timeit(partial(p.plan_many, ids, method, compat=compat, threads=1),  # type: ignore[arg-type]
                                    repeat)
                  for p, ids in planners]  # fmt: skip
         name = f"{method}" + (" (course)" if compat else "")
@@ -160,7 +198,7 @@ def bench_scale(n: int, small: int, repeat: int) -> None:
     print("|---|---:|---:|---:|")
     print(f"| parse | {fmt(parse)} | {fmt(ref_parse)} | {ref_parse / parse:,.0f}x |")
     for method, compat in SCALE_METHODS:
-        t = timeit(lambda: p.plan(goal, method, compat=compat), max(1, repeat // 2))  # type: ignore[arg-type]
+        t = timeit(partial(p.plan, goal, method, compat=compat), max(1, repeat // 2))  # type: ignore[arg-type]
         assert len(p.plan(goal, method, compat=compat).units) == n  # type: ignore[arg-type]
         print(f"| plan, {method}{' (course)' if compat else ''} | {fmt(t)} | | |")
     stext = chain_text(small)
@@ -176,9 +214,64 @@ def bench_scale(n: int, small: int, repeat: int) -> None:
     for method, compat in SCALE_METHODS:
         if method.startswith("optimal"):
             continue
-        t = timeit(lambda: sp.plan(sgoal, method, compat=compat), repeat)  # type: ignore[arg-type]
-        r = timeit(lambda: ref.plan(rf, rgoal, kitchen, set(), None, method, compat), 1)
+        t = timeit(partial(sp.plan, sgoal, method, compat=compat), repeat)  # type: ignore[arg-type]
+        r = timeit(partial(ref.plan, rf, rgoal, kitchen, set(), None, method, compat), 1)
         print(f"| {method}{' (course)' if compat else ''} | {fmt(t)} | {fmt(r)} | {r / t:,.0f}x |")
+
+
+LADDER_CASES: list[tuple[str, str | None]] = [
+    ("bfs", "course"), ("ids", None), ("greedy-success", None), ("greedy-inputs", None),
+    ("optimal-success", None), ("optimal-units", None), ("optimal-inputs", None)]  # fmt: skip
+
+
+def bench_ladder(sizes: list[int], repeat: int, methods: list[str] | None = None) -> None:
+    """The ladder of tests/workloads.py with two rungs a level (each made in two ways from both
+    rungs of the next level, the last level needing the dish, which is on the path; the dish
+    made last from kitchen items): plan the dish with every method. `expanded` is the number of
+    objects the search expanded; a search that forgot its failures expanded 2 ** levels."""
+    kitchen = [foon.Object(label, (state,)) for label, state in ladder_kitchen(2)]
+    cases = [c for c in LADDER_CASES if methods is None or c[0] in methods]
+    print("\n### A ladder (two rungs a level, each made in two ways; the last level needs the "
+          "goal)\n")  # fmt: skip
+    print("| levels | units | " + " | ".join(
+        f"{m}{' (course)' if c else ''}" for m, c in cases) + " |")  # fmt: skip
+    print("|---:|---:|" + "---:|" * len(cases))
+    for n in sizes:
+        f = foon.Foon.from_text(ladder_text(n, objects=2))
+        planner = f.planner(kitchen, default_rate=0.5)
+        goal = f.goal_id(foon.Object("dish", ("done",)))
+        cells = []
+        for method, compat in cases:
+            t = timeit(partial(planner.plan, goal, method, compat=compat), repeat)  # type: ignore[arg-type]
+            tree = planner.plan(goal, method, compat=compat)  # type: ignore[arg-type]
+            assert tree.solved
+            cells.append(f"{t * 1e6:,.1f} µs ({tree.expanded:,})")
+        print(f"| {n:,} | {f.fu_count:,} | " + " | ".join(cells) + " |")
+
+
+def container_text(n: int, held: bool) -> str:
+    """One unit with n inputs: `bowl` holding `egg{i}`, and (held) `egg{i}` in the bowl next to
+    it, which the container rule skips; else n holders with nothing in the bowl, which it must
+    all check."""
+    pair = "O\tbowl\nS\tcontains\t{{egg{i}}}\n" + ("O\tegg{i}\nS\tin\t[bowl]\n" if held else "")
+    count = n // 2 if held else n
+    return "".join(pair.format(i=i) for i in range(count)) + "M\tmix\nO\tbatter\nS\tmixed\n//\n"
+
+
+def bench_container(n: int, repeat: int) -> None:
+    """The container rule on one unit with n inputs (`Foon.plan` prepares the planner, which
+    applies the rule, on every call)."""
+    print(f"\n### The container rule on one unit with {n:,} inputs (utensil `bowl`)\n")
+    print("| the unit's inputs | plan (container rule included) |")
+    print("|---|---:|")
+    goal = foon.Object("batter", ("mixed",))
+    for held in (True, False):
+        f = foon.Foon.from_text(container_text(n, held))
+        t = timeit(partial(f.plan, goal, [], "ids", utensils=["bowl"]), repeat)
+        what = (
+            "bowls holding an egg, each egg in the bowl" if held else "bowls holding an egg, no egg"
+        )
+        print(f"| {what} | {fmt(t)} |")
 
 
 def bench_memory(data: Path, n: int) -> None:
@@ -194,33 +287,50 @@ def bench_memory(data: Path, n: int) -> None:
                  (f"lab_history/{biggest.name}", biggest),
                  (f"a chain of {n:,} units", chain)]  # fmt: skip
         print("\n### Memory: loading a file (peak resident memory added, fresh process)\n")
-        print("| file | size | foon index | foon peak | reference peak "
-              "| foon uses less by |")
+        print("| file | size | foon index | foon peak | reference peak | foon uses less by |")
         print("|---|---:|---:|---:|---:|---:|")
         for name, path in files:
             size = path.stat().st_size
             index, peak = load_memory("foon", path)
             _, ref_peak = load_memory("reference", path)
             mb = 1 << 20
-            print(f"| {name} | {size / mb:.1f} MiB | {index / mb:.1f} MiB ({index / size:.1f}x) "
-                  f"| {peak / mb:.1f} MiB ({peak / size:.1f}x) "
-                  f"| {ref_peak / mb:.1f} MiB ({ref_peak / size:.1f}x) | {ref_peak / peak:.1f}x |")
+            print(
+                f"| {name} | {size / mb:.1f} MiB | {index / mb:.1f} MiB ({index / size:.1f}x) "
+                f"| {peak / mb:.1f} MiB ({peak / size:.1f}x) "
+                f"| {ref_peak / mb:.1f} MiB ({ref_peak / size:.1f}x) | {ref_peak / peak:.1f}x |"
+            )
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--data", type=Path,
-                   default=HERE.parent.parent / "shared" / "data" / "foon")
+    p.add_argument("--data", type=Path, default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
-    p.add_argument("--only", choices=["parse", "plan", "size", "scale", "memory"])
-    p.add_argument("--copies", type=int, default=100,
-                   help="copies of the course FOON in the FOON-size section")
+    p.add_argument(
+        "--only", choices=["parse", "plan", "size", "scale", "ladder", "container", "memory"]
+    )
+    p.add_argument(
+        "--ladder",
+        type=int,
+        nargs="+",
+        default=[28, 200, 2_000],
+        help="rungs of the ladders in the ladder section",
+    )
+    p.add_argument("--methods", nargs="+", help="only these methods in the ladder section")
+    p.add_argument(
+        "--copies", type=int, default=100, help="copies of the course FOON in the FOON-size section"
+    )
     p.add_argument("--chain", type=int, default=300_000, help="units in the scaling chain")
-    p.add_argument("--small-chain", type=int, default=2_000,
-                   help="units in the chain planned side by side with the reference")
+    p.add_argument(
+        "--small-chain",
+        type=int,
+        default=2_000,
+        help="units in the chain planned side by side with the reference",
+    )
     a = p.parse_args()
-    print(f"foon {foon.__version__}, Python {platform.python_version()}, "
-          f"{platform.machine()}, {os.cpu_count()} cores")
+    print(
+        f"foon {foon.__version__}, Python {platform.python_version()}, "
+        f"{platform.machine()}, {os.cpu_count()} cores"
+    )
     if a.only in (None, "parse"):
         bench_parse(a.data, a.repeat)
     if a.only in (None, "plan"):
@@ -229,6 +339,10 @@ def main() -> None:
         bench_foon_size(a.data, a.copies, a.repeat)
     if a.only in (None, "scale"):
         bench_scale(a.chain, a.small_chain, a.repeat)
+    if a.only in (None, "ladder"):
+        bench_ladder(a.ladder, a.repeat, a.methods)
+    if a.only in (None, "container"):
+        bench_container(40_000, a.repeat)
     if a.only in (None, "memory"):
         bench_memory(a.data, a.chain)
 

@@ -742,7 +742,23 @@ def test_a_motion_of_rate_zero_is_never_used() -> None:
         assert tree.solved == (cfg.method != "optimal-success"), cfg
         if not tree.solved:
             assert tree.missing == [] and tree.cycle == []
-            assert tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            assert (
+                tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            )
     (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], {"mix": 0.0, "chop": 0.5},
                             Config("optimal-success", None, "nodes"))  # fmt: skip
     assert tree.units == [1] and tree.cost == 0.5
+
+
+def test_bfs_is_labelled_course(course: Course) -> None:
+    """bfs runs the course loop, so its trees are labelled course even when the sound form was
+    asked for (they once said "sound", and a course tree may not run)."""
+    f = foon.load(DATA / "FOON.txt")
+    for goal in course.rgoals:
+        tree = f.plan(goal, course.rkitchen, "bfs", utensils=course.rutensils)
+        assert tree.compat == "course", goal
+    # A unit that needs its own output: the course tree cannot run, and says course.
+    loop = foon.Foon.from_text("O\tdish\nS\tdone\nM\tmix\nO\tdish\nS\tdone\n//\n")
+    tree = loop.plan(0, [], "bfs")
+    assert tree.units == [0] and tree.compat == "course"
+    assert not loop.plan(0, [], "ids").solved

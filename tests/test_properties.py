@@ -158,7 +158,9 @@ class Checker:
             # that the other methods' trees do): nothing is missing and no cycle blocks it.
             assert tree.units == [] and tree.cost is None, where
             assert tree.missing == [] and tree.cycle == [] and tree.unresolved == [], where
-            assert tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            assert (
+                tree.explanation() == "every way to make it uses a motion whose success rate is 0"
+            )
             return
         assert tree.solved, where
         assert tree.missing == [] and tree.cycle == [] and tree.unresolved == [], where
@@ -213,7 +215,9 @@ class Checker:
                 for cfg, other in trees.items():
                     if other.solved:
                         assert self.multiplicity_cost(other.units, goal, method) == math.inf, (
-                            where, str(cfg))
+                            where,
+                            str(cfg),
+                        )
                 continue
             assert best.cost is not None, where
             own = self.multiplicity_cost(best.units, goal, method)

@@ -118,3 +118,170 @@ fn edge_inputs_do_not_panic() {
         let _ = parse_utensils(data, None);
     }
 }
+
+// --- planning ----------------------------------------------------------------------------------
+
+use std::fmt::Write as _;
+
+use foon_core::search::{Compat, Context, Count, Method, Query};
+use foon_core::{Foon, MotionRates, ObjectSpec};
+
+fn spec(label: &str, state: &str) -> ObjectSpec {
+    ObjectSpec {
+        label: label.into(),
+        states: vec![state.into()],
+        ingredients: Vec::new(),
+        container: None,
+    }
+}
+
+fn unit(text: &mut String, ins: &[(&str, &str)], motion: &str, outs: &[(&str, &str)]) {
+    for (l, s) in ins {
+        let _ = write!(text, "O\t{l}\nS\t{s}\n");
+    }
+    let _ = writeln!(text, "M\t{motion}");
+    for (l, s) in outs {
+        let _ = write!(text, "O\t{l}\nS\t{s}\n");
+    }
+    text.push_str("//\n");
+}
+
+/// A ladder (as `tests/workloads.py` builds it): the dish is made first from rung 1, rung `i`
+/// in `width` ways from rung `i + 1` and a kitchen item, the last rung from the dish (on the
+/// path), and the dish last from kitchen items alone.
+fn ladder(levels: usize, width: usize) -> String {
+    let k: Vec<String> = (0..=width).map(|j| format!("k{j}")).collect();
+    let rung: Vec<String> = (0..=levels + 1).map(|i| format!("r{i}")).collect();
+    let mut t = String::new();
+    unit(
+        &mut t,
+        &[("rung", &rung[1]), ("spice", &k[0])],
+        "mix",
+        &[("dish", "done")],
+    );
+    for i in 1..=levels {
+        let below = if i < levels {
+            ("rung", rung[i + 1].as_str())
+        } else {
+            ("dish", "done")
+        };
+        for kj in k.iter().take(width) {
+            unit(
+                &mut t,
+                &[below, ("spice", kj)],
+                "mix",
+                &[("rung", &rung[i])],
+            );
+        }
+    }
+    unit(
+        &mut t,
+        &[("spice", &k[0]), ("spice", &k[1])],
+        "mix",
+        &[("dish", "done")],
+    );
+    t
+}
+
+fn load(text: &str) -> Foon {
+    parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap()
+}
+
+fn query(method: Method, compat: Compat) -> Query {
+    Query {
+        method,
+        compat,
+        count: Count::Nodes,
+    }
+}
+
+/// The sound greedy search never remembered a failure: on a ladder of `n` rungs it expanded
+/// `2^n` objects (28 rungs took 35 s). The trees are unchanged: the dish's plain unit.
+#[test]
+fn greedy_search_is_polynomial_on_a_ladder() {
+    for (levels, width) in [(20, 2), (12, 3)] {
+        let foon = load(&ladder(levels, width));
+        let kitchen: Vec<ObjectSpec> = (0..=width)
+            .map(|j| spec("spice", &format!("k{j}")))
+            .collect();
+        let ctx = Context::new(&foon, &kitchen, &[], None, Some(0.5)).unwrap();
+        let goal = ctx.goal(&spec("dish", "done")).unwrap();
+        let last = foon.fu_count() as u32 - 1;
+        for method in [Method::GreedySuccess, Method::GreedyInputs] {
+            let plan = ctx.plan(goal, query(method, Compat::Sound)).unwrap();
+            assert_eq!(plan.units, [last], "{method:?} {levels}x{width}");
+            assert!(
+                plan.expanded < 10 * foon.fu_count() as u64,
+                "{method:?} {levels}x{width}: {} expanded",
+                plan.expanded
+            );
+        }
+    }
+}
+
+/// `bfs` ran the course loop but reported compat "sound" (and `solved` for trees that cannot
+/// run) when asked for the sound form.
+#[test]
+fn bfs_is_always_labelled_course() {
+    // The dish's first producer needs the dish itself: the course tree cannot run.
+    let text = "O\tdish\nS\tdone\nM\tmix\nO\tdish\nS\tdone\n//\n";
+    let foon = load(text);
+    let ctx = Context::new(&foon, &[], &[], None, None).unwrap();
+    for compat in [Compat::Sound, Compat::Course] {
+        let plan = ctx.plan(0, query(Method::Bfs, compat)).unwrap();
+        assert_eq!(plan.query.compat, Compat::Course);
+        assert_eq!(plan.units, [0]);
+        assert!(!ctx.is_valid(&plan.units, 0));
+    }
+}
+
+/// A tree whose motion is missing from a given rate table got `success: None` from `bfs` and
+/// `ids` without saying why; methods that choose by rate fail with the motion's name.
+#[test]
+fn a_missing_rate_is_named() {
+    // a (kitchen) -chop-> b -mix-> c; "chop" has no rate.
+    let text = "O\ta\nS\tx\nM\tchop\nO\tb\nS\tx\n//\nO\tb\nS\tx\nM\tmix\nO\tc\nS\tx\n//\n";
+    let foon = load(text);
+    let kitchen = [spec("a", "x")];
+    let rates = MotionRates::from_pairs([("mix".to_owned(), 0.5)]).unwrap();
+    let ctx = Context::new(&foon, &kitchen, &[], Some(&rates), None).unwrap();
+    let c = ctx.goal(&spec("c", "x")).unwrap();
+    for q in [
+        query(Method::Bfs, Compat::Course),
+        query(Method::Ids, Compat::Sound),
+        query(Method::Ids, Compat::Course),
+        query(Method::GreedyInputs, Compat::Sound),
+        query(Method::GreedyInputs, Compat::Course),
+        query(Method::OptimalUnits, Compat::Sound),
+        query(Method::OptimalInputs, Compat::Sound),
+    ] {
+        let plan = ctx.plan(c, q).unwrap();
+        assert_eq!(plan.units, [0, 1], "{q:?}");
+        assert_eq!((plan.success, plan.unrated), (None, Some(0)), "{q:?}");
+    }
+    for q in [
+        query(Method::GreedySuccess, Compat::Sound),
+        query(Method::GreedySuccess, Compat::Course),
+        query(Method::OptimalSuccess, Compat::Sound),
+    ] {
+        match ctx.plan(c, q) {
+            Err(Error::MissingRate { motion }) => assert_eq!(motion, "chop", "{q:?}"),
+            other => panic!("{q:?}: {other:?}"),
+        }
+    }
+    // A default rate fills the gap; without a table nothing is missing.
+    let with_default = Context::new(&foon, &kitchen, &[], Some(&rates), Some(0.25)).unwrap();
+    let no_table = Context::new(&foon, &kitchen, &[], None, None).unwrap();
+    for method in Method::ALL {
+        let plan = with_default.plan(c, query(method, Compat::Sound)).unwrap();
+        assert_eq!(
+            (plan.success, plan.unrated),
+            (Some(0.125), None),
+            "{method:?}"
+        );
+        if !method.uses_rates() {
+            let plan = no_table.plan(c, query(method, Compat::Sound)).unwrap();
+            assert_eq!((plan.success, plan.unrated), (None, None), "{method:?}");
+        }
+    }
+}

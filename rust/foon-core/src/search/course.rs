@@ -4,7 +4,7 @@
 
 use std::collections::VecDeque;
 
-use super::{Context, Method, Plan, Query};
+use super::{Context, Plan, Query, heuristic};
 use crate::error::Result;
 
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
@@ -35,7 +35,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             unresolved.push(o);
             continue;
         }
-        let f = choose(ctx, prods, query)?;
+        let f = heuristic::best(ctx, prods, query)?;
         if in_tree.replace(f, true) {
             continue;
         }
@@ -56,33 +56,4 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         peak_frontier: peak,
         ..ctx.empty_plan(goal, query)
     })
-}
-
-/// The course's choice among the producers (in file order) of an object.
-fn choose(ctx: &Context<'_>, prods: &[u32], query: Query) -> Result<u32> {
-    let mut best = prods[0];
-    match query.method {
-        Method::GreedySuccess => {
-            let mut best_rate = ctx.rate(best)?;
-            for &f in &prods[1..] {
-                let r = ctx.rate(f)?;
-                if r > best_rate {
-                    best = f;
-                    best_rate = r;
-                }
-            }
-        }
-        Method::GreedyInputs => {
-            let mut best_n = ctx.input_count(best, query.count);
-            for &f in &prods[1..] {
-                let n = ctx.input_count(f, query.count);
-                if n < best_n {
-                    best = f;
-                    best_n = n;
-                }
-            }
-        }
-        _ => {}
-    }
-    Ok(best)
 }

@@ -6,6 +6,7 @@ pub mod batch;
 mod course;
 mod forward;
 mod greedy;
+mod heuristic;
 mod ids;
 mod optimal;
 mod scratch;
@@ -15,11 +16,11 @@ use std::str::FromStr;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::companion::{MotionRates, ObjectSpec};
 use crate::error::{Error, Result};
-use crate::index::{Csr, Foon};
+use crate::index::{Csr, Foon, NONE};
 
 pub use forward::Ranks;
 
@@ -164,7 +165,13 @@ pub struct Plan {
     /// Sound methods that failed: why.
     pub explanation: Option<Explanation>,
     pub height: Option<u32>,
+    /// Product of the motion rates of the units; `None` without a rate table, or when a unit's
+    /// motion has no rate (then `unrated` names the first such unit).
     pub success: Option<f64>,
+    /// When a rate table was given: the first unit (in output order) whose motion has no
+    /// rate, which is why `success` is `None`. Only methods that do not choose by rate can
+    /// return such a tree (the others fail with [`Error::MissingRate`]).
+    pub unrated: Option<u32>,
     /// Optimal methods: the optimum of the cost they minimise.
     pub cost: Option<f64>,
     pub leaf_inputs: usize,
@@ -384,56 +391,22 @@ impl<'a> Context<'a> {
         })
     }
 
-    /// Heuristic key of `fu` for `inputs` ordering (smaller is better).
-    fn input_count(&self, fu: u32, count: Count) -> usize {
-        let foon = self.foon;
-        let ins = foon.inputs(fu);
-        match count {
-            Count::Nodes => ins.len(),
-            Count::Ingredients => {
-                let mut labels: Vec<u32> = Vec::new();
-                for &o in ins {
-                    let ing = foon.ingredients(o);
-                    if ing.is_empty() {
-                        labels.push(foon.label(o));
-                    } else {
-                        labels.extend_from_slice(ing);
-                    }
-                }
-                labels.sort_unstable();
-                labels.dedup();
-                labels.len()
-            }
-        }
-    }
-
-    /// Orders `cands` best first for the heuristic of `query` (stable: ties keep index order).
-    fn order(&self, cands: &mut [u32], query: Query) -> Result<()> {
-        match query.method {
-            Method::GreedySuccess => {
-                for &f in cands.iter() {
-                    self.rate(f)?;
-                }
-                cands.sort_by(|&a, &b| {
-                    self.fu_rate[b as usize]
-                        .total_cmp(&self.fu_rate[a as usize])
-                        .then(a.cmp(&b))
-                });
-            }
-            Method::GreedyInputs => {
-                cands.sort_by_key(|&f| (self.input_count(f, query.count), f));
-            }
-            _ => cands.sort_unstable(),
-        }
-        Ok(())
-    }
-
     /// Plans one goal.
     pub fn plan(&self, goal: u32, query: Query) -> Result<Plan> {
         let start = Instant::now();
         if goal as usize >= self.foon.object_count() {
             return Err(Error::Invalid(format!("object {goal} is out of range")));
         }
+        // `bfs` is the course loop, whatever compatibility was asked for: its trees are
+        // labelled course, never sound.
+        let query = if query.method == Method::Bfs {
+            Query {
+                compat: Compat::Course,
+                ..query
+            }
+        } else {
+            query
+        };
         let mut plan = match (query.compat, query.method) {
             (
                 Compat::Course,
@@ -444,7 +417,7 @@ impl<'a> Context<'a> {
                     query.method.as_str()
                 )));
             }
-            (_, Method::Bfs) | (Compat::Course, _) => course::plan(self, goal, query)?,
+            (Compat::Course, _) => course::plan(self, goal, query)?,
             (Compat::Sound, method) => {
                 if self.in_kitchen(goal) {
                     let mut p = self.empty_plan(goal, query);
@@ -487,6 +460,7 @@ impl<'a> Context<'a> {
             explanation: None,
             height: None,
             success: None,
+            unrated: None,
             cost: None,
             leaf_inputs: 0,
             expanded: 0,
@@ -499,6 +473,7 @@ impl<'a> Context<'a> {
         let m = self.metrics(&plan.units, plan.goal);
         plan.height = m.height;
         plan.success = m.success;
+        plan.unrated = m.unrated;
         plan.leaf_inputs = m.leaf_inputs;
     }
 
@@ -509,10 +484,20 @@ impl<'a> Context<'a> {
         } else {
             forward::unit_ranks(self, units).made(goal)
         };
-        let success = if self.rates_given {
+        let unrated = if self.rates_given {
             units
                 .iter()
-                .try_fold(1.0, |acc, &f| self.rate(f).ok().map(|r| acc * r))
+                .copied()
+                .find(|&f| self.fu_rate.get(f as usize).is_none_or(|r| r.is_nan()))
+        } else {
+            None
+        };
+        let success = if self.rates_given && unrated.is_none() {
+            Some(
+                units
+                    .iter()
+                    .fold(1.0, |acc, &f| acc * self.fu_rate[f as usize]),
+            )
         } else {
             None
         };
@@ -527,6 +512,7 @@ impl<'a> Context<'a> {
         TreeMetrics {
             height,
             success,
+            unrated,
             leaf_inputs: seen.len(),
         }
     }
@@ -579,26 +565,43 @@ impl<'a> Context<'a> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TreeMetrics {
     pub height: Option<u32>,
+    /// `None` without a rate table or when a unit's motion has no rate (`unrated`).
     pub success: Option<f64>,
+    /// With a rate table: the first unit whose motion has no rate.
+    pub unrated: Option<u32>,
     pub leaf_inputs: usize,
 }
 
 /// Needed inputs of every FU: the container rule removes an input whose label is a utensil
 /// and whose ingredients are exactly `[x]` when another input of the FU is labelled `x` and
-/// sits in that utensil.
+/// sits in that utensil. Linear in the inputs: the (label, container) pairs of an FU's inputs
+/// are counted once, and an input's own pair is not "another input".
 fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
     let mut out = Csr::new();
     let mut row = Vec::new();
+    let mut held: FxHashMap<(u32, u32), u32> = FxHashMap::default();
     for f in 0..foon.fu_count() as u32 {
         let ins = foon.inputs(f);
         row.clear();
-        for (i, &o) in ins.iter().enumerate() {
-            let ing = foon.ingredients(o);
-            let skip = ing.len() == 1
-                && utensils.contains(&foon.label(o))
-                && ins.iter().enumerate().any(|(j, &p)| {
-                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
-                });
+        // Only an input that holds one ingredient in a utensil can be skipped.
+        let holder = |o: u32| foon.ingredients(o).len() == 1 && utensils.contains(&foon.label(o));
+        if !ins.iter().any(|&o| holder(o)) {
+            out.push_row(ins);
+            continue;
+        }
+        held.clear();
+        for &p in ins {
+            let c = foon.container(p);
+            if c != NONE {
+                *held.entry((foon.label(p), c)).or_default() += 1;
+            }
+        }
+        for &o in ins {
+            let skip = holder(o) && {
+                let pair = (foon.ingredients(o)[0], foon.label(o));
+                let own = u32::from((foon.label(o), foon.container(o)) == pair);
+                held.get(&pair).copied().unwrap_or(0) > own
+            };
             if !skip {
                 row.push(o);
             }
@@ -613,4 +616,96 @@ pub fn plan_many(ctx: &Context<'_>, goals: &[u32], query: Query) -> Vec<Result<P
     use rayon::prelude::*;
     let _ = ctx.ranks();
     goals.par_iter().map(|&g| ctx.plan(g, query)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::fmt::Write as _;
+
+    use rustc_hash::FxHashSet;
+
+    use super::needed_inputs;
+    use crate::index::Foon;
+    use crate::parse::{ParseOptions, parse_foon};
+
+    /// The container rule as written in `docs/METHODS.md`: for each input, look at every other
+    /// position of the FU's input list.
+    fn quadratic(foon: &Foon, utensils: &FxHashSet<u32>, f: u32) -> Vec<u32> {
+        let ins = foon.inputs(f);
+        let mut row = Vec::new();
+        for (i, &o) in ins.iter().enumerate() {
+            let ing = foon.ingredients(o);
+            let skip = ing.len() == 1
+                && utensils.contains(&foon.label(o))
+                && ins.iter().enumerate().any(|(j, &p)| {
+                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
+                });
+            if !skip {
+                row.push(o);
+            }
+        }
+        row
+    }
+
+    /// The linear container rule gives the quadratic definition's needed inputs on random
+    /// FUs: utensils holding one or two ingredients, inputs in the right or another container,
+    /// a utensil that holds itself and sits in itself, the same input several times.
+    #[test]
+    fn linear_container_rule_matches_the_definition() {
+        const LABELS: [&str; 5] = ["bowl", "pot", "egg", "salt", "bowl2"];
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n) as usize
+        };
+        let mut skipped = 0;
+        for round in 0..300 {
+            let mut text = String::new();
+            for _ in 0..=next(6) {
+                let mut objs: Vec<String> = Vec::new();
+                for _ in 0..next(12) {
+                    let mut o = format!("O\t{}\n", LABELS[next(5)]);
+                    match next(4) {
+                        0 => {}
+                        1 => {
+                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
+                        }
+                        2 => {
+                            let (a, b) = (LABELS[next(5)], LABELS[next(5)]);
+                            let _ = writeln!(o, "S\tcontains\t{{{a},{b}}}");
+                        }
+                        _ => {
+                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
+                            let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
+                        }
+                    }
+                    if next(2) == 0 {
+                        let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
+                    }
+                    if next(3) == 0 && !objs.is_empty() {
+                        o = objs[next(objs.len() as u64)].clone(); // a duplicate input
+                    }
+                    objs.push(o);
+                }
+                for o in &objs {
+                    text.push_str(o);
+                }
+                text.push_str("M\tmix\nO\tdone\nS\tx\n//\n");
+            }
+            let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+            let utensils: FxHashSet<u32> = ["bowl", "pot", "bowl2"]
+                .iter()
+                .take(1 + round % 3)
+                .filter_map(|u| foon.strings().get(u))
+                .collect();
+            let linear = needed_inputs(&foon, &utensils);
+            for f in 0..foon.fu_count() as u32 {
+                assert_eq!(linear.row(f), quadratic(&foon, &utensils, f), "{text}");
+                skipped += foon.inputs(f).len() - linear.row(f).len();
+            }
+        }
+        assert!(skipped > 100, "the rule skipped only {skipped} inputs");
+    }
 }
