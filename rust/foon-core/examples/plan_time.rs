@@ -7,7 +7,8 @@ use std::time::Instant;
 
 use foon_core::InputKind;
 use foon_core::companion::{load_objects, load_rates, load_utensils};
-use foon_core::search::{Context, Count, Query, plan_many};
+use foon_core::search::batch::{BatchOptions, plan_batch};
+use foon_core::search::{Context, Count, Prepared, Query};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -22,7 +23,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let kitchen = load_objects(&d.join("kitchen.json"), InputKind::Kitchen)?;
     let rates = load_rates(&d.join("motion.txt"))?;
     let utensils = load_utensils(&d.join("utensils.txt"))?;
-    let ctx = Context::new(&foon, &kitchen, &utensils, Some(&rates), None)?;
+    let prep = Prepared::new(&foon, &kitchen, &utensils, Some(&rates), None)?;
+    let ctx = Context::with(&foon, &prep)?;
     let goals: Vec<u32> = load_objects(&d.join("goal_nodes_25.json"), InputKind::Goal)?
         .iter()
         .map(|g| ctx.goal(g))
@@ -44,14 +46,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let one = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    std::hint::black_box(plan_many(&ctx, &batch, query));
+    let opts = BatchOptions::threads(None);
+    std::hint::black_box(plan_batch(&foon, &prep, &batch, query, &opts)?);
     let all = t.elapsed().as_secs_f64();
     let n = batch.len() as f64;
     eprintln!(
         "{} plans: 1 thread {:.0}/s, {} threads {:.0}/s",
         batch.len(),
         n / one,
-        rayon::current_num_threads(),
+        std::thread::available_parallelism().map_or(1, std::num::NonZero::get),
         n / all
     );
     Ok(())

@@ -30,12 +30,13 @@ fn str_count(c: Count) -> &'static str {
 
 /// The first unit of the tree whose motion has no rate when a rate table was given (the
 /// core's `Plan::unrated`).
-fn unrated(_plan: &Plan) -> Option<u32> {
-    None
+fn unrated(plan: &Plan) -> Option<u32> {
+    plan.unrated
 }
 
 /// The pickled form of a plan: (goal, method, compat, count), (solved, units, unresolved,
-/// explanation), (height, success, cost, leaf inputs, expanded, peak frontier, seconds).
+/// explanation), (height, success, unrated, cost, leaf inputs, expanded, peak frontier,
+/// seconds).
 type PlanState = (
     (u32, String, String, String),
     (
@@ -47,6 +48,7 @@ type PlanState = (
     (
         Option<u32>,
         Option<f64>,
+        Option<u32>,
         Option<f64>,
         usize,
         u64,
@@ -170,6 +172,7 @@ impl PyPlan {
             (
                 p.height,
                 p.success,
+                p.unrated,
                 p.cost,
                 p.leaf_inputs,
                 p.expanded,
@@ -185,7 +188,8 @@ impl PyPlan {
     #[staticmethod]
     fn _from_state(state: PlanState) -> PyResult<Self> {
         let ((goal, method, compat, count), (solved, units, unresolved, expl), metrics) = state;
-        let (height, success, cost, leaf_inputs, expanded, peak_frontier, seconds) = metrics;
+        let (height, success, unrated, cost, leaf_inputs, expanded, peak_frontier, seconds) =
+            metrics;
         let query = foon_core::Query {
             method: method.parse().map_err(PyFoonErr)?,
             compat: compat.parse().map_err(PyFoonErr)?,
@@ -205,6 +209,7 @@ impl PyPlan {
                 }),
                 height,
                 success,
+                unrated,
                 cost,
                 leaf_inputs,
                 expanded,

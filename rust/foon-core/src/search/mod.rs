@@ -611,13 +611,6 @@ fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
     out
 }
 
-/// Plans many goals at once over all cores (the context is built once).
-pub fn plan_many(ctx: &Context<'_>, goals: &[u32], query: Query) -> Vec<Result<Plan>> {
-    use rayon::prelude::*;
-    let _ = ctx.ranks();
-    goals.par_iter().map(|&g| ctx.plan(g, query)).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use std::fmt::Write as _;
