@@ -477,9 +477,9 @@ def test_output_is_the_same_in_chunks(
     argv = ["plan", "--goals", str(ex.paths["goals"]), "--format", fmt, "-q"]
     assert main(argv) == 1
     whole = capsys.readouterr()
-    import foon._cli_commands
+    from foon import _cli_commands
 
-    monkeypatch.setattr(foon._cli_commands, "CHUNK", 4)  # 6 goals: two chunks
+    monkeypatch.setattr(_cli_commands, "CHUNK", 4)  # 6 goals: two chunks
     assert main(argv) == 1
     chunked = capsys.readouterr()
     assert chunked.err == whole.err
