@@ -154,6 +154,17 @@ def test_out_checks_every_destination_before_writing(tmp_path: Path, capsys: Cap
     assert sorted(p.name for p in out.iterdir()) == ["tea.txt"]  # nothing written, no temp
 
 
+def test_out_must_be_a_folder(tmp_path: Path, capsys: Capture) -> None:
+    args = small_world(tmp_path, [("ice", "a")])
+    plain = tmp_path / "file"
+    plain.write_text("x")
+    for out in (plain, plain / "o"):
+        code, _, err = run(["plan", *args, "--out", str(out)], capsys)
+        assert code == 1
+        assert err == f"foon: error: {plain}: not a directory\n"
+    assert plain.read_text() == "x"
+
+
 def test_out_rejects_a_name_too_long_before_writing(tmp_path: Path, capsys: Capture) -> None:
     long = "x" * 300
     args = small_world(tmp_path, [("ice", "a"), (long, "b")])
