@@ -554,3 +554,21 @@ def test_version_imports_only_the_parser() -> None:
         [sys.executable, "-c", _IMPORTS], capture_output=True, text=True, timeout=60, check=True
     )
     assert p.stdout.splitlines()[-1].split() == ["imported:", "foon.cli"]
+
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(), inner, max_size=4),
+    max_leaves=30,
+)
+
+
+@given(json_values, st.integers(0, 3))
+@settings(max_examples=400, deadline=None)
+def test_the_indenting_encoder_is_json_dumps(value: object, depth: int) -> None:
+    from foon._cli_commands import dumps_indented
+
+    want = json.dumps(value, indent=2)
+    assert dumps_indented(value) == want
+    # Nested `depth` levels deep, as an item of a list is.
+    assert dumps_indented(value, "  " * depth) == want.replace("\n", "\n" + "  " * depth)

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from typing import Any, Literal, TypeAlias
 
     Goal: TypeAlias = foon.Object | str
+    Raw: TypeAlias = tuple[str, list[str], list[str], str | None]
 
 #: Goals planned per core call: what a run holds at once.
 CHUNK = 4096
@@ -41,29 +42,40 @@ def load_foon(path: str, strict: bool) -> foon.Foon:
     return f
 
 
-def _objects(raw: Sequence[tuple[str, list[str], list[str], str | None]]) -> list[foon.Object]:
-    return [foon.Object(t[0], tuple(t[1]), tuple(t[2]), t[3]) for t in raw]
+def _object(t: Raw) -> foon.Object:
+    return foon.Object(t[0], tuple(t[1]), tuple(t[2]), t[3])
 
 
-def read_goals(args: argparse.Namespace, ex: foon.Example | None) -> list[Goal]:
-    """The goals of a command: ``--goals FILE`` and ``--goal JSON`` go through the core's
-    object loader (the same rules and messages as every other object file)."""
-    goals: list[Goal]
+def as_goal(g: Raw | Goal) -> Goal:
+    """A goal as the API takes it (an object, or a label)."""
+    return _object(g) if isinstance(g, tuple) else g
+
+
+def read_raw_goals(args: argparse.Namespace, ex: foon.Example | None) -> Sequence[Raw | Goal]:
+    """The goals of a command, as the core's loader gives them: ``--goals FILE`` and
+    ``--goal JSON`` go through it (the same rules and messages as every other object file).
+    They become objects a chunk at a time (:func:`as_goal`)."""
+    raw: Sequence[Raw | Goal]
     if args.goals is not None:
-        goals = list(_objects(_foon.load_objects(args.goals, "goal")))
-        if not goals:
+        raw = _foon.load_objects(args.goals, "goal")
+        if not raw:
             raise CliError(f"{args.goals}: the goal list is empty")
-        return goals
+        return raw
     if args.goal is not None:
-        goals = list(_objects(_foon.parse_objects(args.goal, "goal", path="--goal")))
-        if not goals:
+        raw = _foon.parse_objects(args.goal, "goal", path="--goal")
+        if not raw:
             raise CliError("--goal: the goal list is empty")
-        return goals
+        return raw
     if args.label is not None:
         return [args.label]
     if ex is not None:
         return [ex.goals[0]]
     raise UsageError("give the goal with --goals FILE, --goal JSON or --label TEXT")
+
+
+def read_goals(args: argparse.Namespace, ex: foon.Example | None) -> list[Goal]:
+    """The goals of a command (see :func:`read_raw_goals`)."""
+    return [as_goal(g) for g in read_raw_goals(args, ex)]
 
 
 def inputs(
@@ -114,16 +126,18 @@ def resolve(f: foon.Foon, goals: Sequence[Goal]) -> list[int | NotFound]:
 
 
 def plan_chunks(
+    f: foon.Foon,
     planner: foon.Planner,
-    resolved: Sequence[int | NotFound],
+    goals: Sequence[Raw | Goal],
     method: str,
     compat: Literal["course"] | None,
     count: Literal["nodes", "ingredients"],
     threads: int | None,
 ) -> Iterator[list[foon.TaskTree | NotFound]]:
-    """The plans of the goals in goal order, ``CHUNK`` goals at a time."""
-    for start in range(0, len(resolved), CHUNK):
-        chunk = resolved[start : start + CHUNK]
+    """The plans of the goals in goal order, ``CHUNK`` goals at a time (a goal that is not
+    in the FOON is a :class:`NotFound`)."""
+    for start in range(0, len(goals), CHUNK):
+        chunk = resolve(f, [as_goal(g) for g in goals[start : start + CHUNK]])
         ids = [r for r in chunk if isinstance(r, int)]
         trees = iter(
             planner.plan_many(ids, method, compat=compat, count=count, threads=threads)
@@ -153,12 +167,13 @@ def _solved(t: foon.TaskTree | NotFound) -> bool:
 
 def cmd_plan(args: argparse.Namespace) -> int:
     f, kitchen, motions, utensils, ex = inputs(args)
-    goals = read_goals(args, ex)
-    resolved = resolve(f, goals)
+    goals = read_raw_goals(args, ex)
     out: OutDir | None = None
     as_json = args.format == "json"
     if args.out is not None:
-        labels = [g if isinstance(g, str) else g.label for g in goals]
+        labels = [
+            g if isinstance(g, str) else g[0] if isinstance(g, tuple) else g.label for g in goals
+        ]
         names = file_names(labels, ".json" if as_json else ".txt")
         try:
             out = OutDir(
@@ -173,7 +188,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     i = 0
     try:
         for chunk in plan_chunks(
-            planner, resolved, args.method, args.compat, args.count, args.threads
+            f, planner, goals, args.method, args.compat, args.count, args.threads
         ):
             notes = []
             for t in chunk:
@@ -214,14 +229,56 @@ def cmd_plan(args: argparse.Namespace) -> int:
 
 def _json_item(t: foon.TaskTree | NotFound, args: argparse.Namespace) -> str:
     """One item of the ``--format json`` list, as ``json.dumps(list, indent=2)`` writes it."""
-    import json
-
     if isinstance(t, NotFound):
         d = {"goal": t.goal_dict(), "method": args.method, "solved": False, "error": t.message}
     else:
         d = t.to_dict()
-    # JSON text has no raw newline inside a string, so this only indents the lines.
-    return json.dumps(d, indent=2).replace("\n", "\n  ")
+    return dumps_indented(d, "  ")
+
+
+def dumps_indented(o: Any, indent: str = "") -> str:
+    """``json.dumps(o, indent=2)`` for a value nested ``indent`` deep (dicts with string
+    keys, lists, strings, numbers, booleans, None), byte for byte; about three times faster
+    than the json module's pure-Python indenting encoder, which ``--format json`` spends most
+    of its time in."""
+    import math
+    from json.encoder import encode_basestring_ascii as string
+
+    def enc(o: Any, ind: str) -> str:
+        if isinstance(o, str):
+            return string(o)
+        if o is None:
+            return "null"
+        if o is True:
+            return "true"
+        if o is False:
+            return "false"
+        if isinstance(o, int):
+            return int.__repr__(o)
+        if isinstance(o, float):
+            if math.isnan(o):
+                return "NaN"
+            if math.isinf(o):
+                return "Infinity" if o > 0 else "-Infinity"
+            return float.__repr__(o)
+        inner = ind + "  "
+        sep = ",\n" + inner
+        if isinstance(o, dict):
+            if not o:
+                return "{}"
+            body = sep.join(string(k) + ": " + enc(v, inner) for k, v in o.items())
+            return "{\n" + inner + body + "\n" + ind + "}"
+        if isinstance(o, list | tuple):
+            if not o:
+                return "[]"
+            if all(type(x) is int for x in o):
+                body = sep.join(map(int.__repr__, o))
+            else:
+                body = sep.join(enc(x, inner) for x in o)
+            return "[\n" + inner + body + "\n" + ind + "]"
+        raise TypeError(f"Object of type {type(o).__name__} is not JSON serializable")
+
+    return enc(o, indent)
 
 
 # --- compare --------------------------------------------------------------------------------
