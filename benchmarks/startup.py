@@ -1,0 +1,137 @@
+"""Start-up of the ``foon`` command: whole processes side by side in one run.
+
+    python benchmarks/startup.py [--data ../shared/data/foon] [--runs 30]
+
+Times ``python -c pass``, ``python -c "import foon"``, ``foon --version``, ``foon stats
+FOON.txt`` and ``foon plan`` on the 25 course goals, with hyperfine when it is installed
+(``--shell=none``, so no shell start-up is counted) and otherwise with a loop of
+``subprocess.run`` calls; prints a Markdown table (medians, and the ratio to ``python -c
+pass`` of the same run), then the slowest imports of ``import foon`` (``-X importtime``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def commands(data: Path) -> list[tuple[str, list[str]]]:
+    py = sys.executable
+    script = shutil.which("foon", path=os.path.dirname(py)) or shutil.which("foon")
+    if script is None:
+        sys.exit("the foon command is not installed beside this Python")
+    d = str(data)
+    return [
+        ("python -c pass", [py, "-c", "pass"]),
+        ('python -c "import foon"', [py, "-c", "import foon"]),
+        ("foon --version", [script, "--version"]),
+        ("foon stats FOON.txt", [script, "stats", f"{d}/FOON.txt"]),
+        ("foon plan (25 course goals)", [
+            script, "plan", "--foon", f"{d}/FOON.txt", "--kitchen", f"{d}/kitchen.json",
+            "--motions", f"{d}/motion.txt", "--utensils", f"{d}/utensils.txt",
+            "--goals", f"{d}/goal_nodes_25.json", "-q"]),
+    ]  # fmt: skip
+
+
+def check_outputs(cmds: list[tuple[str, list[str]]]) -> None:
+    """Each command runs and succeeds once before it is timed."""
+    for name, argv in cmds:
+        p = subprocess.run(argv, capture_output=True, text=True, check=False)
+        # The 25 course goals include two that cannot be made: plan exits 1 by design.
+        ok = p.returncode == 0 or (name.startswith("foon plan") and p.returncode == 1)
+        if not ok:
+            sys.exit(f"{name} failed ({p.returncode}): {p.stderr.strip()}")
+
+
+def with_hyperfine(cmds: list[tuple[str, list[str]]], runs: int) -> dict[str, float]:
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "h.json"
+        argv = ["hyperfine", "--shell=none", "--warmup", "3", "--runs", str(runs), "-i",
+                "--style", "none", "--export-json", str(out)]  # fmt: skip
+        for name, cmd in cmds:
+            argv += ["--command-name", name, " ".join(_quote(a) for a in cmd)]
+        subprocess.run(argv, check=True, stdout=subprocess.DEVNULL)
+        results = json.loads(out.read_text())["results"]
+    return {r["command"]: statistics.median(r["times"]) for r in results}
+
+
+def _quote(a: str) -> str:
+    # hyperfine --shell=none splits the command line like a shell does (quotes, no globs).
+    return "'" + a.replace("'", "'\"'\"'") + "'" if any(c in a for c in " \"'") else a
+
+
+def with_loop(cmds: list[tuple[str, list[str]]], runs: int) -> dict[str, float]:
+    times: dict[str, list[float]] = {name: [] for name, _ in cmds}
+    for _ in range(3):  # warm-up
+        for _, argv in cmds:
+            subprocess.run(argv, capture_output=True, check=False)
+    for _ in range(runs):  # interleaved, so that drift hits every command alike
+        for name, argv in cmds:
+            t = time.perf_counter()
+            subprocess.run(argv, capture_output=True, check=False)
+            times[name].append(time.perf_counter() - t)
+    return {name: statistics.median(ts) for name, ts in times.items()}
+
+
+def importtime(code: str) -> list[tuple[int, int, str]]:
+    """(self µs, cumulative µs, module) of every import ``code`` makes (``-X importtime``)."""
+    p = subprocess.run([sys.executable, "-X", "importtime", "-c", code],
+                       capture_output=True, text=True, check=True)  # fmt: skip
+    rows = []
+    for line in p.stderr.splitlines():
+        if not line.startswith("import time:") or "self [us]" in line:
+            continue
+        self_us, cum_us, name = line.removeprefix("import time:").split("|")
+        rows.append((int(self_us), int(cum_us), name.rstrip()))
+    return rows
+
+
+def slowest_imports(n: int = 8) -> list[tuple[int, int, str]]:
+    """The slowest imports of ``import foon`` (the row of ``foon`` itself has the whole
+    import as its cumulative time)."""
+    return sorted(importtime("import foon"), key=lambda r: -r[0])[:n]
+
+
+def cli_import_us() -> int:
+    """What ``import foon.cli`` adds to ``import foon`` (cumulative µs)."""
+    rows = importtime("import foon; import foon.cli")
+    return next(c for _, c, name in rows if name.strip() == "foon.cli")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, default=HERE.parent.parent / "shared/data/foon")
+    ap.add_argument("--runs", type=int, default=30)
+    ap.add_argument("--loop", action="store_true", help="do not use hyperfine")
+    args = ap.parse_args()
+    cmds = commands(args.data)
+    check_outputs(cmds)
+    use_hf = shutil.which("hyperfine") is not None and not args.loop
+    medians = (with_hyperfine if use_hf else with_loop)(cmds, args.runs)
+    base = medians["python -c pass"]
+    how = "hyperfine --shell=none" if use_hf else "a subprocess.run loop"
+    print(f"\n### Start-up (median of {args.runs} runs, {how})\n")
+    print("| command | median | / `python -c pass` |")
+    print("|---|---:|---:|")
+    for name, _ in cmds:
+        print(f"| `{name}` | {1000 * medians[name]:.1f} ms | {medians[name] / base:.2f} |")
+    print("\n### The slowest imports of `import foon` (`python -X importtime`)\n")
+    print("| module | self | cumulative |")
+    print("|---|---:|---:|")
+    for self_us, cum_us, name in slowest_imports():
+        print(f"| `{name.strip()}` | {self_us / 1000:.1f} ms | {cum_us / 1000:.1f} ms |")
+    print(f"\n`import foon.cli` adds {cli_import_us() / 1000:.1f} ms to `import foon`.")
+
+
+if __name__ == "__main__":
+    main()
