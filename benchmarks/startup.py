@@ -1,12 +1,14 @@
 """Start-up of the ``foon`` command: whole processes side by side in one run.
 
-    python benchmarks/startup.py [--data ../shared/data/foon] [--runs 30]
+    python benchmarks/startup.py [--data ../shared/data/foon] [--runs 30] [--before OLD_CLI_PY]
 
 Times ``python -c pass``, ``python -c "import foon"``, ``foon --version``, ``foon stats
-FOON.txt`` and ``foon plan`` on the 25 course goals, with hyperfine when it is installed
-(``--shell=none``, so no shell start-up is counted) and otherwise with a loop of
-``subprocess.run`` calls; prints a Markdown table (medians, and the ratio to ``python -c
-pass`` of the same run), then the slowest imports of ``import foon`` (``-X importtime``).
+FOON.txt`` and ``foon plan`` on the 25 course goals with a loop of ``subprocess.run`` calls
+that takes the commands in turn (so that a machine whose speed drifts slows every command
+alike), or with hyperfine (``--hyperfine``: ``--shell=none``, each command's runs in a row);
+prints a Markdown table (medians, and the ratio to ``python -c pass`` of the same run), then
+the slowest imports of ``import foon`` and what ``import foon.cli`` adds (``-X importtime``,
+the best of 5).
 """
 
 from __future__ import annotations
@@ -25,22 +27,35 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 
-def commands(data: Path) -> list[tuple[str, list[str]]]:
+def commands(data: Path, before: Path | None = None) -> list[tuple[str, list[str]]]:
+    """The commands to time; with ``before`` (a copy of an earlier ``foon/cli.py``), the
+    three ``foon`` commands also run through that CLI, on the same ``foon`` package."""
     py = sys.executable
     script = shutil.which("foon", path=os.path.dirname(py)) or shutil.which("foon")
     if script is None:
         sys.exit("the foon command is not installed beside this Python")
     d = str(data)
-    return [
+    plan = ["plan", "--foon", f"{d}/FOON.txt", "--kitchen", f"{d}/kitchen.json",
+            "--motions", f"{d}/motion.txt", "--utensils", f"{d}/utensils.txt",
+            "--goals", f"{d}/goal_nodes_25.json", "-q"]  # fmt: skip
+    out = [
         ("python -c pass", [py, "-c", "pass"]),
         ('python -c "import foon"', [py, "-c", "import foon"]),
         ("foon --version", [script, "--version"]),
         ("foon stats FOON.txt", [script, "stats", f"{d}/FOON.txt"]),
-        ("foon plan (25 course goals)", [
-            script, "plan", "--foon", f"{d}/FOON.txt", "--kitchen", f"{d}/kitchen.json",
-            "--motions", f"{d}/motion.txt", "--utensils", f"{d}/utensils.txt",
-            "--goals", f"{d}/goal_nodes_25.json", "-q"]),
-    ]  # fmt: skip
+        ("foon plan (25 course goals)", [script, *plan]),
+    ]
+    if before is not None:
+        # What the installed script does (import the CLI, call main), with the old CLI.
+        run = ("import sys, importlib.util as u; s = u.spec_from_file_location('cli', "
+               f"{str(before)!r}); m = u.module_from_spec(s); s.loader.exec_module(m); "
+               "sys.argv[0] = 'foon'; sys.exit(m.main())")  # fmt: skip
+        out += [
+            ("before: foon --version", [py, "-c", run, "--version"]),
+            ("before: foon stats FOON.txt", [py, "-c", run, "stats", f"{d}/FOON.txt"]),
+            ("before: foon plan (25 course goals)", [py, "-c", run, *plan]),
+        ]
+    return out
 
 
 def check_outputs(cmds: list[tuple[str, list[str]]]) -> None:
@@ -48,7 +63,7 @@ def check_outputs(cmds: list[tuple[str, list[str]]]) -> None:
     for name, argv in cmds:
         p = subprocess.run(argv, capture_output=True, text=True, check=False)
         # The 25 course goals include two that cannot be made: plan exits 1 by design.
-        ok = p.returncode == 0 or (name.startswith("foon plan") and p.returncode == 1)
+        ok = p.returncode == 0 or ("foon plan" in name and p.returncode == 1)
         if not ok:
             sys.exit(f"{name} failed ({p.returncode}): {p.stderr.strip()}")
 
@@ -103,23 +118,33 @@ def slowest_imports(n: int = 8) -> list[tuple[int, int, str]]:
 
 
 def cli_import_us() -> int:
-    """What ``import foon.cli`` adds to ``import foon`` (cumulative µs)."""
-    rows = importtime("import foon; import foon.cli")
-    return next(c for _, c, name in rows if name.strip() == "foon.cli")
+    """What ``import foon.cli`` adds to ``import foon`` (cumulative µs, the best of 5)."""
+    return min(
+        next(
+            c
+            for _, c, name in importtime("import foon; import foon.cli")
+            if name.strip() == "foon.cli"
+        )
+        for _ in range(5)
+    )
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, default=HERE.parent.parent / "shared/data/foon")
     ap.add_argument("--runs", type=int, default=30)
-    ap.add_argument("--loop", action="store_true", help="do not use hyperfine")
+    ap.add_argument("--hyperfine", action="store_true", help="time with hyperfine")
+    ap.add_argument("--before", type=Path, metavar="CLI_PY",
+                    help="also time the foon commands through this earlier foon/cli.py")  # fmt: skip
     args = ap.parse_args()
-    cmds = commands(args.data)
+    cmds = commands(args.data, args.before)
     check_outputs(cmds)
-    use_hf = shutil.which("hyperfine") is not None and not args.loop
+    use_hf = args.hyperfine
+    if use_hf and shutil.which("hyperfine") is None:
+        sys.exit("hyperfine is not installed")
     medians = (with_hyperfine if use_hf else with_loop)(cmds, args.runs)
     base = medians["python -c pass"]
-    how = "hyperfine --shell=none" if use_hf else "a subprocess.run loop"
+    how = "hyperfine --shell=none" if use_hf else "subprocess.run, the commands in turn"
     print(f"\n### Start-up (median of {args.runs} runs, {how})\n")
     print("| command | median | / `python -c pass` |")
     print("|---|---:|---:|")
