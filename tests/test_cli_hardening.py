@@ -572,3 +572,13 @@ def test_the_indenting_encoder_is_json_dumps(value: object, depth: int) -> None:
     assert dumps_indented(value) == want
     # Nested `depth` levels deep, as an item of a list is.
     assert dumps_indented(value, "  " * depth) == want.replace("\n", "\n" + "  " * depth)
+
+
+def test_compare_with_no_method_left_is_an_error(capsys: Capture) -> None:
+    ex = foon.example()
+    code, out, err = run(["compare", "--foon", str(ex.paths["foon"]), "--kitchen",
+                          str(ex.paths["kitchen"]), "--goals", str(ex.paths["goals"]),
+                          "--methods", "greedy-success"], capsys)  # fmt: skip
+    assert code == 1 and out == ""
+    assert err.splitlines()[0].startswith("foon: note: greedy-success skipped: ")
+    assert err.splitlines()[1:] == ["foon: error: no method could run"]

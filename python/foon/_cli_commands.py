@@ -397,8 +397,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
         w.writerows(rows)
         for srow in summary_rows:
             w.writerow({"goal": "(all)", **srow})
-    else:
+    elif rows:
         _print_compare_table(rows, summary_rows)
+    if not rows:
+        error("no method could run")
     return 1 if lost or not rows else 0
 
 
