@@ -29,15 +29,14 @@ def run(argv: list[str], capsys: Capture) -> tuple[int, str, str]:
     return code, out, err
 
 
-def run_process(argv: list[str], **kw: object) -> subprocess.CompletedProcess[str]:
+def run_process(argv: list[str]) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
         [sys.executable, "-m", "foon", *argv],
         capture_output=True,
         text=True,
         timeout=120,
         check=False,
-        **kw,
-    )  # type: ignore[call-overload]
+    )
 
 
 def obj(label: str, *states: str) -> dict[str, object]:
