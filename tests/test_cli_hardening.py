@@ -198,6 +198,31 @@ def test_out_failing_rename_leaves_nothing(
     assert not out.exists()  # the file already renamed, the temporary files, the folder
 
 
+def test_out_failing_rename_puts_replaced_files_back(
+    tmp_path: Path, capsys: Capture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    args = small_world(tmp_path, [("ice", "a"), ("tea", "b"), ("jam", "c")])
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "ice.txt").write_text("an earlier tree\n")
+    (out / "other.txt").write_text("not ours\n")
+    real = os.replace
+
+    def replace(src: str, dst: str) -> None:
+        if str(dst).endswith("tea.txt"):
+            raise OSError(28, "No space left on device")
+        real(src, dst)
+
+    monkeypatch.setattr(os, "replace", replace)
+    code, _, err = run(["plan", *args, "--out", str(out)], capsys)
+    assert code == 1
+    assert err.splitlines()[-1] == (
+        f"foon: error: {out / 'tea.txt'}: cannot write: No space left on device"
+    )
+    assert sorted(p.name for p in out.iterdir()) == ["ice.txt", "other.txt"]
+    assert (out / "ice.txt").read_text() == "an earlier tree\n"
+
+
 @pytest.mark.parametrize("mask", [0o022, 0o002, 0o077])
 def test_out_files_have_the_usual_permissions(tmp_path: Path, capsys: Capture, mask: int) -> None:
     args = small_world(tmp_path, [("ice", "a")])

@@ -91,8 +91,8 @@ class OutDir:
     """Writes one file per goal into a folder: every destination is checked before anything
     is written, each file goes to a temporary file first (created with the usual permissions,
     that is 0666 less the umask), and :meth:`commit` renames them all into place; on any
-    failure the temporary files, the files already renamed and the folders created are
-    removed, and the error names the real destination."""
+    failure the files already replaced are put back, the new files, the temporary files and
+    the folders created are removed, and the error names the real destination."""
 
     def __init__(self, folder: str, names: Sequence[str], inputs: Sequence[str | None]) -> None:
         self.folder = folder
@@ -150,7 +150,7 @@ class OutDir:
         dest = self.dests[i]
         flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
         for _ in range(100):
-            tmp = os.path.join(self.folder, f".foon-{os.getpid()}-{os.urandom(6).hex()}.tmp")
+            tmp = self._temp_name()
             try:
                 fd = os.open(tmp, flags, 0o666)
                 break
@@ -167,20 +167,52 @@ class OutDir:
         except OSError as e:
             raise OutError(f"{dest}: cannot write: {e.strerror or e}") from None
 
-    def commit(self) -> None:
-        """Renames every temporary file into place (all of them, or none on failure)."""
-        done: list[str] = []
-        for i in sorted(self._temps):
-            dest = self.dests[i]
+    def _temp_name(self) -> str:
+        return os.path.join(self.folder, f".foon-{os.getpid()}-{os.urandom(6).hex()}.tmp")
+
+    def _backup(self, dest: str) -> str | None:
+        """Keeps the file at ``dest`` (if any) under a temporary name, so that it can be put
+        back: a second link when the file system has them, else a rename."""
+        if not os.path.lexists(dest):
+            return None
+        backup = self._temp_name()
+        try:
+            os.link(dest, backup, follow_symlinks=False)
+        except OSError:
             try:
-                os.replace(self._temps[i], dest)
+                os.rename(dest, backup)
             except OSError as e:
-                for d in done:
-                    _unlink(d)
-                self.abort()
-                raise OutError(f"{dest}: cannot write: {e.strerror or e}") from None
-            del self._temps[i]
-            done.append(dest)
+                raise OutError(f"{dest}: cannot replace: {e.strerror or e}") from None
+        return backup
+
+    def commit(self) -> None:
+        """Renames every temporary file into place: all of them, or none (on failure the
+        files replaced so far are put back and the new ones removed)."""
+        done: list[tuple[str, str | None]] = []  # (destination, what it held before)
+        try:
+            for i in sorted(self._temps):
+                dest = self.dests[i]
+                try:
+                    done.append((dest, self._backup(dest)))
+                    os.replace(self._temps[i], dest)
+                except OSError as e:
+                    raise OutError(f"{dest}: cannot write: {e.strerror or e}") from None
+                del self._temps[i]
+        except OutError:
+            for dest, backup in reversed(done):
+                if backup is None:
+                    _unlink(dest, missing_ok=True)
+                else:
+                    try:
+                        os.replace(backup, dest)
+                    except OSError as e:
+                        print(f"foon: warning: {dest}: could not be put back (it is in "
+                              f"{backup}): {e.strerror or e}", file=sys.stderr)  # fmt: skip
+            self.abort()
+            raise
+        for _, backup in done:
+            if backup is not None:
+                _unlink(backup)
         self._created.clear()
 
     def abort(self) -> None:
@@ -196,8 +228,11 @@ class OutDir:
         self._created.clear()
 
 
-def _unlink(path: str) -> None:
+def _unlink(path: str, missing_ok: bool = False) -> None:
     try:
         os.unlink(path)
+    except FileNotFoundError:
+        if not missing_ok:
+            print(f"foon: warning: {path}: cannot remove: it is gone", file=sys.stderr)
     except OSError as e:
         print(f"foon: warning: {path}: cannot remove: {e.strerror or e}", file=sys.stderr)
