@@ -121,6 +121,29 @@ def test_file_names_never_collide(ls: list[str]) -> None:
         seen.add(name_key(stem))
 
 
+cli_labels = st.lists(st.sampled_from(["ice", "ice_2", "ice 2", "ice_3", "ice_2_2", "a/b", "a_b",
+                                       "a:b", "_", ".", "caf\u00e9", "cafe\u0301"]),
+                      min_size=1, max_size=8)  # fmt: skip
+
+
+@given(cli_labels)
+@settings(max_examples=40, deadline=None)
+def test_out_writes_one_file_per_goal_for_any_labels(ls: list[str]) -> None:
+    import tempfile
+
+    goals = [(label, f"s{i}") for i, label in enumerate(ls)]  # distinct goals, shared labels
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        out = root / "o"
+        assert main(["plan", *small_world(root, goals), "--out", str(out), "-q"]) == 0
+        names = file_names(ls, ".txt")
+        assert sorted(p.name for p in out.iterdir()) == sorted(names)
+        f = foon.load(root / "f.txt")
+        k = foon.Kitchen.load(root / "k.json")
+        for name, (label, state) in zip(names, goals, strict=True):
+            assert (out / name).read_text() == f.plan(foon.Object(label, (state,)), k).to_text()
+
+
 # --- --out: failed goals --------------------------------------------------------------------
 
 
