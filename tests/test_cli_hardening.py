@@ -499,6 +499,17 @@ def test_compare_usage_errors_show_the_compare_usage(capsys: Capture) -> None:
     assert err.startswith("usage: foon compare ") and "unknown method 'astar'" in err
 
 
+@pytest.mark.parametrize(
+    "argv",
+    [["plan", "--default-rate", "2"], ["plan", "--method", "optimal-units", "--compat", "course"]],
+)
+def test_option_values_the_core_rejects_are_usage_errors(capsys: Capture, argv: list[str]) -> None:
+    code, out, err = run(argv, capsys)
+    assert code == 2 and out == ""
+    usage, _, message = err.partition("\nfoon: error: ")
+    assert usage.startswith("usage: foon plan ") and message.count("\n") == 1
+
+
 @pytest.mark.parametrize("command", ["plan", "verify"])
 def test_ambiguous_label_is_one_line(tmp_path: Path, capsys: Capture, command: str) -> None:
     tree = tmp_path / "t.txt"

@@ -219,14 +219,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         _quiet_closed_pipe()
         return 1
-    except UsageError as e:
-        sub.print_usage(sys.stderr)
-        error(e)
-        return 2
     except (CliError, foon.FoonError, OSError) as e:
         error(e)
         return 1
-    except ValueError as e:
+    except (UsageError, ValueError) as e:  # an option value the core rejects is one too
+        sub.print_usage(sys.stderr)
         error(e)
         return 2
     except KeyboardInterrupt:
