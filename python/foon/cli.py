@@ -5,13 +5,12 @@ stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
 (``foon ... | head``) ends the command quietly with exit code 1, as Python programs do.
 
 This module only builds the argument parser and maps errors to exit codes; each command is
-in :mod:`foon._cli_commands`, imported when a command runs (``foon --version`` and
-``foon --help`` import nothing else).
+in :mod:`foon._cli_commands`, imported when a command runs. ``foon --version`` imports
+nothing else, not even argparse.
 """
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 
@@ -19,6 +18,7 @@ import foon
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
+    import argparse
     from collections.abc import Sequence
 
 
@@ -50,6 +50,8 @@ _MAX_THREADS = 2**63 - 1
 
 
 def _threads(text: str) -> int:
+    import argparse
+
     try:
         n = int(text)
     except ValueError:
@@ -62,6 +64,8 @@ def _threads(text: str) -> int:
 
 
 def _folder(text: str) -> str:
+    import argparse
+
     if not text:
         raise argparse.ArgumentTypeError("the folder name is empty")
     return text
@@ -71,6 +75,8 @@ def _folder(text: str) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    import argparse
+
     p = argparse.ArgumentParser(
         prog="foon",
         description=f"Parse FOON files and retrieve task trees (foon {foon.__version__}).",
@@ -207,6 +213,10 @@ def _quiet_closed_pipe() -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    if list(sys.argv[1:] if argv is None else argv) == ["--version"]:
+        # What the parser would print, without importing argparse (and re) to print it.
+        print(f"foon {foon.__version__}")
+        return 0
     parser = build_parser()
     args = parser.parse_args(argv)
     sub: argparse.ArgumentParser = args.parser
