@@ -1,0 +1,632 @@
+"""The commands of the ``foon`` command line (the parser and the exit codes are in
+:mod:`foon.cli`).
+
+Plans are made ``CHUNK`` goals per core call and written as soon as they are made (text,
+a JSON list written item by item, or temporary files for ``--out``), so the memory a run
+needs does not grow with the number of goals.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+import foon
+from foon import _foon
+from foon._cli_out import OutDir, OutError, file_names
+from foon.cli import CliError, UsageError, error, one_line
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    import argparse
+    from collections.abc import Iterator, Sequence
+    from typing import Any, Literal, TypeAlias
+
+    Goal: TypeAlias = foon.Object | str
+    Raw: TypeAlias = tuple[str, list[str], list[str], str | None]
+
+#: Goals planned per core call: what a run holds at once.
+CHUNK = 4096
+
+
+# --- loading --------------------------------------------------------------------------------
+
+
+def load_foon(path: str, strict: bool) -> foon.Foon:
+    """Loads a FOON and prints its warnings on stderr, one line each."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", foon.FoonWarning)
+        f = foon.load(path, strict=strict)
+    for w in caught:
+        print(f"foon: warning: {one_line(str(w.message))}", file=sys.stderr)
+    return f
+
+
+def _object(t: Raw) -> foon.Object:
+    return foon.Object(t[0], tuple(t[1]), tuple(t[2]), t[3])
+
+
+def as_goal(g: Raw | Goal) -> Goal:
+    """A goal as the API takes it (an object, or a label)."""
+    return _object(g) if isinstance(g, tuple) else g
+
+
+def read_raw_goals(args: argparse.Namespace, ex: foon.Example | None) -> Sequence[Raw | Goal]:
+    """The goals of a command, as the core's loader gives them: ``--goals FILE`` and
+    ``--goal JSON`` go through it (the same rules and messages as every other object file).
+    They become objects a chunk at a time (:func:`as_goal`)."""
+    raw: Sequence[Raw | Goal]
+    if args.goals is not None:
+        raw = _foon.load_objects(args.goals, "goal")
+        if not raw:
+            raise CliError(f"{args.goals}: the goal list is empty")
+        return raw
+    if args.goal is not None:
+        raw = _foon.parse_objects(args.goal, "goal", path="--goal")
+        if not raw:
+            raise CliError("--goal: the goal list is empty")
+        return raw
+    if args.label is not None:
+        return [args.label]
+    if ex is not None:
+        return [ex.goals[0]]
+    raise UsageError("give the goal with --goals FILE, --goal JSON or --label TEXT")
+
+
+def read_goals(args: argparse.Namespace, ex: foon.Example | None) -> list[Goal]:
+    """The goals of a command (see :func:`read_raw_goals`)."""
+    return [as_goal(g) for g in read_raw_goals(args, ex)]
+
+
+def inputs(
+    args: argparse.Namespace,
+) -> tuple[foon.Foon, foon.Kitchen, foon.MotionRates | None, list[str], foon.Example | None]:
+    """The FOON, kitchen, rates and utensils of a command (the example's by default)."""
+    ex = foon.example() if args.foon is None else None
+    f = ex.foon if ex is not None else load_foon(args.foon, args.strict)
+    kitchen = (
+        foon.Kitchen.load(args.kitchen) if args.kitchen else ex.kitchen if ex else foon.Kitchen()
+    )
+    motions = (
+        foon.MotionRates.load(args.motions)
+        if getattr(args, "motions", None)
+        else ex.motions
+        if ex
+        else None
+    )
+    utensils = foon.load_utensils(args.utensils) if args.utensils else ex.utensils if ex else []
+    return f, kitchen, motions, utensils, ex
+
+
+# --- planning -------------------------------------------------------------------------------
+
+
+class NotFound:
+    """A goal that is not an object of the FOON (or a label several objects have)."""
+
+    __slots__ = ("goal", "message")
+
+    def __init__(self, goal: Goal, message: str) -> None:
+        self.goal = goal
+        self.message = message
+
+    def goal_dict(self) -> dict[str, Any]:
+        return {"label": self.goal} if isinstance(self.goal, str) else self.goal.to_dict()
+
+
+def resolve(f: foon.Foon, goals: Sequence[Goal]) -> list[int | NotFound]:
+    """Each goal's object id, or why it has none."""
+    out: list[int | NotFound] = []
+    for g in goals:
+        try:
+            out.append(f.goal_id(g))
+        except foon.GoalNotFoundError as e:
+            out.append(NotFound(g, one_line(str(e))))
+    return out
+
+
+def plan_chunks(
+    f: foon.Foon,
+    planner: foon.Planner,
+    goals: Sequence[Raw | Goal],
+    method: str,
+    compat: Literal["course"] | None,
+    count: Literal["nodes", "ingredients"],
+    threads: int | None,
+) -> Iterator[list[foon.TaskTree | NotFound]]:
+    """The plans of the goals in goal order, ``CHUNK`` goals at a time (a goal that is not
+    in the FOON is a :class:`NotFound`)."""
+    for start in range(0, len(goals), CHUNK):
+        chunk = resolve(f, [as_goal(g) for g in goals[start : start + CHUNK]])
+        ids = [r for r in chunk if isinstance(r, int)]
+        trees = iter(
+            planner.plan_many(ids, method, compat=compat, count=count, threads=threads)
+            if ids
+            else []
+        )
+        yield [next(trees) if isinstance(r, int) else r for r in chunk]
+
+
+def summary(t: foon.TaskTree | NotFound) -> str:
+    if isinstance(t, NotFound):
+        return f"{t.goal}: FAILED: {t.message}"
+    head = f"{t.goal}: "
+    if not t.solved:
+        return head + f"FAILED ({t.method}): {one_line(t.explanation())}"
+    parts = [f"{t.fu_count} unit{'s' if t.fu_count != 1 else ''}"]
+    parts.append(f"height {t.height}" if t.height is not None else "not executable as listed")
+    if t.success is not None:
+        parts.append(f"success {100 * t.success:.2f}%")
+    compat = ", course" if t.compat == "course" else ""
+    return head + ", ".join(parts) + f" ({t.method}{compat}, {1000 * t.seconds:.2f} ms)"
+
+
+def _solved(t: foon.TaskTree | NotFound) -> bool:
+    return not isinstance(t, NotFound) and t.solved
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    f, kitchen, motions, utensils, ex = inputs(args)
+    goals = read_raw_goals(args, ex)
+    out: OutDir | None = None
+    as_json = args.format == "json"
+    if args.out is not None:
+        labels = [
+            g if isinstance(g, str) else g[0] if isinstance(g, tuple) else g.label for g in goals
+        ]
+        names = file_names(labels, ".json" if as_json else ".txt")
+        try:
+            out = OutDir(
+                args.out, names, [args.foon, args.kitchen, args.motions, args.utensils, args.goals]
+            )
+        except OutError as e:
+            raise CliError(str(e)) from None
+    planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
+    write = sys.stdout.write
+    many = len(goals) > 1
+    failed = 0
+    i = 0
+    try:
+        for chunk in plan_chunks(
+            f, planner, goals, args.method, args.compat, args.count, args.threads
+        ):
+            notes = []
+            for t in chunk:
+                ok = _solved(t)
+                failed += not ok
+                if out is not None:
+                    if ok:
+                        assert not isinstance(t, NotFound)
+                        out.write(i, t.to_json() + "\n" if as_json else t.to_text())
+                elif as_json:
+                    write(("[\n  " if i == 0 else ",\n  ") + _json_item(t, args))
+                else:
+                    if many:
+                        write(f"# goal: {t.goal}\n")
+                    if not isinstance(t, NotFound) and (t.units or t.solved):
+                        write(t.to_text())
+                if not ok or not args.quiet:
+                    notes.append(summary(t) + "\n")
+                i += 1
+            sys.stderr.write("".join(notes))
+        if as_json and out is None:
+            write("\n]\n")
+        if out is not None:
+            out.commit()
+    except OutError as e:
+        raise CliError(str(e)) from None
+    finally:
+        if out is not None:
+            out.abort()
+    if out is not None and failed:
+        print(
+            f"foon: {failed} of {len(goals)} goals not solved: no file written for "
+            f"{'it' if failed == 1 else 'them'}",
+            file=sys.stderr,
+        )
+    return 1 if failed else 0
+
+
+def _json_item(t: foon.TaskTree | NotFound, args: argparse.Namespace) -> str:
+    """One item of the ``--format json`` list, as ``json.dumps(list, indent=2)`` writes it."""
+    if isinstance(t, NotFound):
+        d = {"goal": t.goal_dict(), "method": args.method, "solved": False, "error": t.message}
+    else:
+        d = t.to_dict()
+    return dumps_indented(d, "  ")
+
+
+def dumps_indented(o: Any, indent: str = "") -> str:
+    """``json.dumps(o, indent=2)`` for a value nested ``indent`` deep (dicts with string
+    keys, lists, strings, numbers, booleans, None), byte for byte; about three times faster
+    than the json module's pure-Python indenting encoder, which ``--format json`` spends most
+    of its time in."""
+    import math
+    from json.encoder import encode_basestring_ascii as string
+
+    def enc(o: Any, ind: str) -> str:
+        if isinstance(o, str):
+            return string(o)
+        if o is None:
+            return "null"
+        if o is True:
+            return "true"
+        if o is False:
+            return "false"
+        if isinstance(o, int):
+            return int.__repr__(o)
+        if isinstance(o, float):
+            if math.isnan(o):
+                return "NaN"
+            if math.isinf(o):
+                return "Infinity" if o > 0 else "-Infinity"
+            return float.__repr__(o)
+        inner = ind + "  "
+        sep = ",\n" + inner
+        if isinstance(o, dict):
+            if not o:
+                return "{}"
+            body = sep.join(string(k) + ": " + enc(v, inner) for k, v in o.items())
+            return "{\n" + inner + body + "\n" + ind + "}"
+        if isinstance(o, list | tuple):
+            if not o:
+                return "[]"
+            if all(type(x) is int for x in o):
+                body = sep.join(map(int.__repr__, o))
+            else:
+                body = sep.join(enc(x, inner) for x in o)
+            return "[\n" + inner + body + "\n" + ind + "]"
+        raise TypeError(f"Object of type {type(o).__name__} is not JSON serializable")
+
+    return enc(o, indent)
+
+
+# --- compare --------------------------------------------------------------------------------
+
+ROW_KEYS = (
+    "goal",
+    "method",
+    "solved",
+    "fu_count",
+    "height",
+    "success",
+    "leaf_inputs",
+    "expanded",
+    "peak_frontier",
+    "seconds",
+    "error",
+)
+SUMMARY_KEYS = (
+    "method",
+    "solved_count",
+    "goals",
+    "fu_count",
+    "height",
+    "success",
+    "leaf_inputs",
+    "expanded",
+    "peak_frontier",
+    "seconds_total",
+)
+
+
+def _methods(text: str | None) -> list[str]:
+    """The methods of ``--methods``, in the order given, each once (the core's order and
+    list by default)."""
+    if text is None:
+        return list(foon.METHODS)
+    methods = list(dict.fromkeys(m.strip() for m in text.split(",")))
+    for m in methods:
+        if m not in foon.METHODS:
+            raise UsageError(f"unknown method '{m}' (choose from {', '.join(foon.METHODS)})")
+    return methods
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    methods = _methods(args.methods)
+    f, kitchen, motions, utensils, ex = inputs(args)
+    if args.goals is None and args.goal is None and args.label is None:
+        if ex is None:
+            raise UsageError("give the goals with --goals FILE, --goal JSON or --label TEXT")
+        goals: list[Goal] = list(ex.goals)
+    else:
+        goals = read_goals(args, ex)
+    resolved = resolve(f, goals)
+    lost = [r for r in resolved if isinstance(r, NotFound)]
+    for nf in lost:
+        error(summary(nf))
+    ids = [r for r in resolved if isinstance(r, int)]
+    planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
+    rows: list[dict[str, Any]] = []
+    skipped: list[tuple[str, str]] = []
+    for m in methods:
+        course = (m == "bfs" or args.compat == "course") and not m.startswith("optimal")
+        compat: Literal["course"] | None = "course" if course else None
+        name = m + (" (course)" if compat else "")
+        try:
+            trees = iter(
+                planner.plan_many(ids, m, compat=compat, count=args.count, threads=args.threads)
+                if ids
+                else []
+            )
+        except foon.MissingRateError as e:
+            if motions is not None or args.default_rate is not None:
+                raise
+            skipped.append((m, one_line(str(e))))
+            continue
+        for r in resolved:
+            if isinstance(r, NotFound):
+                rows.append(
+                    dict.fromkeys(ROW_KEYS)
+                    | {"goal": str(r.goal), "method": name, "solved": False, "error": r.message}
+                )
+                continue
+            t = next(trees)
+            rows.append(
+                {
+                    "goal": str(t.goal),
+                    "method": name,
+                    "solved": t.solved,
+                    "fu_count": t.fu_count if t.solved else None,
+                    "height": t.height,
+                    "success": t.success if t.solved else None,
+                    "leaf_inputs": t.leaf_inputs if t.solved else None,
+                    "expanded": t.expanded,
+                    "peak_frontier": t.peak_frontier,
+                    "seconds": t.seconds,
+                    "error": None,
+                }
+            )
+    for m, why in skipped:
+        print(
+            f"foon: note: {m} skipped: it needs a success rate for every motion "
+            f"(give --motions FILE or --default-rate R): {why}",
+            file=sys.stderr,
+        )
+    summary_rows = _compare_summary(rows)
+    if args.json:
+        import json
+
+        sys.stdout.write(json.dumps({"rows": rows, "summary": summary_rows}, indent=2) + "\n")
+    elif args.csv:
+        import csv
+
+        fields = [*ROW_KEYS, "solved_count", "goals", "seconds_total"]
+        w = csv.DictWriter(sys.stdout, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+        for srow in summary_rows:
+            w.writerow({"goal": "(all)", **srow})
+    elif rows:
+        _print_compare_table(rows, summary_rows)
+    if not rows:
+        error("no method could run")
+    return 1 if lost or not rows else 0
+
+
+def _compare_summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per method: the solved count, the number of goals, means of the tree measures over
+    the solved goals (of ``expanded`` and ``peak_frontier`` over the planned goals) and the
+    total planning time."""
+    out = []
+    for m in dict.fromkeys(r["method"] for r in rows):
+        rs = [r for r in rows if r["method"] == m]
+        planned = [r for r in rs if r["error"] is None]
+        ok = [r for r in rs if r["solved"]]
+
+        def mean(key: str, rows_: list[dict[str, Any]] = ok) -> float | None:
+            vals = [r[key] for r in rows_ if r[key] is not None]
+            return sum(vals) / len(vals) if vals else None
+
+        out.append(
+            {
+                "method": m,
+                "solved_count": len(ok),
+                "goals": len(rs),
+                "fu_count": mean("fu_count"),
+                "height": mean("height"),
+                "success": mean("success"),
+                "leaf_inputs": mean("leaf_inputs"),
+                "expanded": mean("expanded", planned),
+                "peak_frontier": mean("peak_frontier", planned),
+                "seconds_total": sum(r["seconds"] for r in planned),
+            }
+        )
+    return out
+
+
+def _cell(v: Any, kind: str = "") -> str:
+    if v is None:
+        return "-"
+    if kind == "pct":
+        return f"{100 * v:.2f}%"
+    if kind == "ms":
+        return f"{1000 * v:.3f}"
+    if isinstance(v, float):
+        return f"{v:.1f}"
+    return str(v)
+
+
+def _print_compare_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) -> None:
+    head = ["goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms"]
+    body = [
+        [
+            r["goal"][:48],
+            r["method"],
+            _cell(r["fu_count"]),
+            _cell(r["height"]),
+            _cell(r["success"], "pct"),
+            _cell(r["leaf_inputs"]),
+            _cell(r["expanded"]),
+            _cell(r["peak_frontier"]),
+            "not found" if r["error"] else _cell(r["seconds"], "ms"),
+        ]
+        for r in rows
+    ]
+    for srow in summary:
+        body.append(
+            [
+                f"(all: {srow['solved_count']}/{srow['goals']} solved; means, total ms)",
+                srow["method"],
+                _cell(srow["fu_count"]),
+                _cell(srow["height"]),
+                _cell(srow["success"], "pct"),
+                _cell(srow["leaf_inputs"]),
+                _cell(srow["expanded"]),
+                _cell(srow["peak_frontier"]),
+                _cell(srow["seconds_total"], "ms"),
+            ]
+        )
+    widths = [max(len(x[i]) for x in [head, *body]) for i in range(len(head))]
+
+    def fmt(cells: list[str]) -> str:
+        return "  ".join(
+            c.ljust(w) if i < 2 else c.rjust(w)
+            for i, (c, w) in enumerate(zip(cells, widths, strict=True))
+        )
+
+    line = fmt(head)
+    print(line)
+    print("-" * len(line))
+    for i, row in enumerate(body):
+        if i == len(rows):
+            print("-" * len(line))
+        print(fmt(row))
+
+
+# --- verify ---------------------------------------------------------------------------------
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    f, kitchen, _, utensils, ex = inputs(args)
+    goals = read_goals(args, ex)
+    if len(goals) != 1:
+        raise UsageError("verify takes exactly one goal")
+    goal = goals[0]
+    if isinstance(goal, str):
+        goal = f.object(f.goal_id(goal))
+    tree = load_foon(args.tree, args.strict)
+    r = f.verify(tree, goal, kitchen, utensils)
+    if args.json:
+        import json
+
+        out = {
+            "valid": r.valid,
+            "units": r.units,
+            "goal_made": r.goal_made,
+            "blocked": None
+            if r.blocked is None
+            else {
+                "position": r.blocked.position,
+                "line": r.blocked.line,
+                "missing": [o.to_dict() for o in r.blocked.missing],
+            },
+            "foreign_units": [{"position": p, "line": ln} for p, ln in r.foreign_units],
+        }
+        sys.stdout.write(json.dumps(out, indent=2) + "\n")
+    else:
+        if r.blocked is not None:
+            b = r.blocked
+            print(
+                f"{args.tree}:{b.line}: unit {b.position + 1} cannot run: needs "
+                + "; ".join(str(o) for o in b.missing)
+                + " (neither in the kitchen nor made by an earlier unit)"
+            )
+        if not r.goal_made:
+            what = "is not an object of the tree" if r.goal_absent else "is never made"
+            print(f"{args.tree}: the goal {goal} {what}")
+        for pos, line in r.foreign_units:
+            print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
+        if r.valid:
+            print(f"{args.tree}: valid: {r.units} units make {goal}")
+    return 0 if r.valid else 1
+
+
+# --- check ----------------------------------------------------------------------------------
+
+
+def _looks_like_foon(path: str) -> bool:
+    """A text file whose first meaningful line is an O, S or M line or `//`."""
+    try:
+        with open(path, "rb") as fh:
+            for raw in fh:
+                line = raw.strip()
+                if not line or line.startswith(b"#"):
+                    continue
+                return line[:1] in (b"O", b"S", b"M") or line.startswith(b"//")
+    except OSError:
+        return True  # let the checker report it
+    return False
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    import os
+    from pathlib import Path
+
+    files: list[str] = []
+    skipped = 0
+    problem = False
+    for name in args.paths:
+        if os.path.isdir(name):
+            found = 0
+            # Only regular files are read: a FIFO or a device named *.txt is never opened.
+            for q in sorted(p for p in Path(name).rglob("*.txt") if p.is_file()):
+                if _looks_like_foon(str(q)):
+                    files.append(str(q))
+                    found += 1
+                else:
+                    skipped += 1
+            if not found:
+                error(
+                    f"{name}: no FOON file in this folder (FOON files are .txt files "
+                    "whose first line is an O, S, M or // line)"
+                )
+                problem = True
+        elif os.path.exists(name) and not os.path.isfile(name):
+            error(f"{name}: not a regular file")
+            problem = True
+        else:
+            files.append(name)
+    if not files:
+        return 1
+    kitchen = foon.Kitchen.load(args.kitchen) if args.kitchen else None
+    motions = foon.MotionRates.load(args.motions) if args.motions else None
+    utensils = foon.load_utensils(args.utensils) if args.utensils else None
+    findings = foon.check(files, kitchen=kitchen, motions=motions, utensils=utensils)
+    if args.json:
+        import json
+
+        keys = ("path", "line", "column", "severity", "code", "message")
+        items = [{k: getattr(f, k) for k in keys} for f in findings]
+        sys.stdout.write(json.dumps(items, indent=2) + "\n")
+    else:
+        for f in findings:
+            print(f)
+        counts = {s: sum(f.severity == s for f in findings) for s in ("error", "warning", "note")}
+        note = f" ({skipped} non-FOON .txt files skipped)" if skipped else ""
+        print(
+            f"{len(files)} files checked{note}: {counts['error']} errors, "
+            f"{counts['warning']} warnings, {counts['note']} notes",
+            file=sys.stderr,
+        )
+    return 1 if findings or problem else 0
+
+
+# --- stats ----------------------------------------------------------------------------------
+
+
+def cmd_stats(args: argparse.Namespace) -> int:
+    rows = []
+    for path in args.files:
+        rows.append({"file": path, **load_foon(path, args.strict).stats()})
+    if args.json:
+        import json
+
+        sys.stdout.write(json.dumps(rows, indent=2) + "\n")
+        return 0
+    for r in rows:
+        print(r["file"])
+        for k, v in r.items():
+            if k != "file":
+                print(f"  {k.replace('_', ' '):<20} {v:>10,}")
+    return 0
