@@ -15,10 +15,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-import pytest
-
 import foon
 import foon.cli
+import pytest
 from foon import _foon
 from workloads import can_measure_memory, chain_text, load_memory
 
@@ -48,8 +47,12 @@ def _cli_args(kind: str, path: Path, tmp_path: Path, strict: bool = False) -> li
         return ["stats", *(["--strict"] if strict else []), str(path)]
     tiny = tmp_path / "tiny.foon"
     tiny.write_text(TINY_FOON)
-    flag = {"kitchen": "--kitchen", "goal": "--goals", "motions": "--motions",
-            "utensils": "--utensils"}[kind]
+    flag = {
+        "kitchen": "--kitchen",
+        "goal": "--goals",
+        "motions": "--motions",
+        "utensils": "--utensils",
+    }[kind]
     return ["plan", "--foon", str(tiny), flag, str(path)]
 
 
@@ -71,7 +74,9 @@ def test_the_corpus_covers_what_it_must() -> None:
     assert dialects == {"A", "A'", "B", "B'"}
     # Every warning kind that strict mode turns into an error, in every dialect.
     for dialect in dialects:
-        warned = {c.get("warning") for c in CASES if c["kind"] == "foon" and c["dialect"] == dialect}
+        warned = {
+            c.get("warning") for c in CASES if c["kind"] == "foon" and c["dialect"] == dialect
+        }
         assert {"no-motion", "two-motions", "unterminated"} <= warned, dialect
     kinds = {c["kind"] for c in CASES}
     assert kinds == {"foon", "kitchen", "goal", "motions", "utensils"}
@@ -94,8 +99,9 @@ def test_python_raises_parse_error_with_location(case: dict[str, Any]) -> None:
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c["file"] for c in CASES])
-def test_cli_exits_1_with_one_error_line(case: dict[str, Any], tmp_path: Path,
-                                         capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_exits_1_with_one_error_line(
+    case: dict[str, Any], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     path = HERE / case["file"]
     rc = foon.cli.main(_cli_args(case["kind"], path, tmp_path, case.get("strict", False)))
     out, err = capsys.readouterr()
@@ -109,8 +115,9 @@ STRICT_ONLY = [c for c in CASES if c.get("warning")]
 
 
 @pytest.mark.parametrize("case", STRICT_ONLY, ids=[c["file"] for c in STRICT_ONLY])
-def test_strict_only_faults_are_warnings_otherwise(case: dict[str, Any], tmp_path: Path,
-                                                   capsys: pytest.CaptureFixture[str]) -> None:
+def test_strict_only_faults_are_warnings_otherwise(
+    case: dict[str, Any], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     path = HERE / case["file"]
     with pytest.warns(foon.FoonWarning, match=re.escape(f"[{case['warning']}]")) as rec:
         f = foon.load(path)
@@ -121,6 +128,29 @@ def test_strict_only_faults_are_warnings_otherwise(case: dict[str, Any], tmp_pat
     assert rc == 0 and "functional units" in out
     assert err.startswith(f"foon: warning: {path}:{case['line']}:1: ")
     assert "Traceback" not in err
+
+
+NOTED = [c for c in CASES if c.get("note")]
+
+
+@pytest.mark.parametrize("case", NOTED, ids=[c["file"] for c in NOTED])
+def test_strict_only_annotation_faults_are_check_findings_otherwise(
+    case: dict[str, Any], capsys: pytest.CaptureFixture[str]
+) -> None:
+    # A second container or ingredient list, an empty ingredient: loaded as the course does
+    # (no load warning), reported by `foon check` with a code at the line and column.
+    path = HERE / case["file"]
+    f = foon.load(path)
+    assert f.warnings == []
+    found = [x for x in foon.check(path) if x.code == case["note"]]
+    assert [(x.line, x.column, x.severity) for x in found] == [
+        (case["line"], case["column"], "warning")
+    ]
+    rc = foon.cli.main(["check", str(path)])
+    out, err = capsys.readouterr()
+    assert rc == 1 and "Traceback" not in err
+    assert f"{path}:{case['line']}:{case['column']}: warning: " in out
+    assert f"[{case['note']}]" in out
 
 
 def test_truncated_file_keeps_its_last_unit() -> None:
@@ -148,11 +178,19 @@ HUGE = [
 ]
 
 
-@pytest.mark.parametrize(("dialect", "head", "pre", "post", "nl", "line"), HUGE,
-                         ids=[h[0] for h in HUGE])
-def test_huge_line_is_an_error(dialect: str, head: str, pre: str, post: str, nl: str,
-                               line: int, tmp_path: Path,
-                               capsys: pytest.CaptureFixture[str]) -> None:
+@pytest.mark.parametrize(
+    ("dialect", "head", "pre", "post", "nl", "line"), HUGE, ids=[h[0] for h in HUGE]
+)
+def test_huge_line_is_an_error(
+    dialect: str,
+    head: str,
+    pre: str,
+    post: str,
+    nl: str,
+    line: int,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
     huge = pre + "a" * (MIB + 1 - len(pre) - len(post)) + post
     assert len(huge) == MIB + 1
     path = tmp_path / f"huge_{dialect}.foon"
@@ -189,8 +227,9 @@ def test_hundred_megabyte_line_fails_fast() -> None:
     assert elapsed < 5.0, f"took {elapsed:.2f} s"
 
 
-def test_hundred_megabyte_line_from_the_cli(tmp_path: Path,
-                                            capsys: pytest.CaptureFixture[str]) -> None:
+def test_hundred_megabyte_line_from_the_cli(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     path = tmp_path / "huge.foon"
     with path.open("wb") as fh:
         fh.write(b"O\tonion\nM\tchop\n//\nO\t")
@@ -235,15 +274,19 @@ def chain() -> foon.Foon:
     return f
 
 
-@pytest.mark.parametrize(("method", "options"), [
-    ("ids", {}),
-    ("greedy-success", {"default_rate": 0.5}),
-    ("greedy-inputs", {}),
-    ("bfs", {"compat": "course"}),
-    ("optimal-units", {}),
-])
-def test_deep_chain_plans_without_crashing(chain: foon.Foon, method: str,
-                                           options: dict[str, Any]) -> None:
+@pytest.mark.parametrize(
+    ("method", "options"),
+    [
+        ("ids", {}),
+        ("greedy-success", {"default_rate": 0.5}),
+        ("greedy-inputs", {}),
+        ("bfs", {"compat": "course"}),
+        ("optimal-units", {}),
+    ],
+)
+def test_deep_chain_plans_without_crashing(
+    chain: foon.Foon, method: str, options: dict[str, Any]
+) -> None:
     kitchen = foon.Kitchen([foon.Object("item", ("s0",))])
     goal = foon.Object("item", (f"s{DEPTH}",))
     t = chain.plan(goal, kitchen, method, **options)
@@ -260,6 +303,7 @@ def test_deep_chain_plans_without_crashing(chain: foon.Foon, method: str,
 
 
 # --- memory ----------------------------------------------------------------------------------
+
 
 @pytest.mark.skipif(not can_measure_memory(), reason="needs /proc (Linux)")
 def test_memory_is_proportional_to_the_input(tmp_path: Path) -> None:

@@ -2,17 +2,20 @@
 
 from __future__ import annotations
 
-import pytest
-
 import foon
+import pytest
 
 A = "O\tonion\nS\twhole\nO\tknife\nM\tchop\nO\tonion\nS\tchopped\nO\tknife\n//\n"
 A_IDS = "O1\tonion\nS1\twhole\nO1\tknife\nM1\tchop\nO1\tonion\nS1\tchopped\nO1\tknife\n//\n"
-B = ("# Source:\thttp://example.org/v.mp4\r\n//\r\n"
-     "O12\tOnion\t1\r\nS3\twhole\r\nO7\tknife\t0\r\nM4\tchop\t1:10\t1:11\r\n"
-     "O12\tonion\t1\r\nS5\tchopped\r\nO7\tknife\t0\r\n//\r\n")
-B_PRIME = ("O\tonion\t1\nS\twhole\nO\tknife\t0\nM\tchop\t<1:10,1:11>\n"
-           "O\tonion\t1\nS\tchopped\nO\tknife\t0\n//\n")
+B = (
+    "# Source:\thttp://example.org/v.mp4\r\n//\r\n"
+    "O12\tOnion\t1\r\nS3\twhole\r\nO7\tknife\t0\r\nM4\tchop\t1:10\t1:11\r\n"
+    "O12\tonion\t1\r\nS5\tchopped\r\nO7\tknife\t0\r\n//\r\n"
+)
+B_PRIME = (
+    "O\tonion\t1\nS\twhole\nO\tknife\t0\nM\tchop\t<1:10,1:11>\n"
+    "O\tonion\t1\nS\tchopped\nO\tknife\t0\n//\n"
+)
 
 
 @pytest.mark.parametrize("text", [A, A_IDS, B, B_PRIME], ids=["A", "A'", "B", "B'"])
@@ -20,7 +23,10 @@ def test_every_dialect_gives_the_same_graph(text: str) -> None:
     f = foon.Foon.from_text(text)
     assert f.fu_count == 1
     assert [str(f.object(i)) for i in range(f.object_count)] == [
-        "onion (whole)", "knife", "onion (chopped)"]
+        "onion (whole)",
+        "knife",
+        "onion (chopped)",
+    ]
     fu = f.fu(0)
     assert fu.motion == "chop"
     assert fu.input_ids == (0, 1) and fu.output_ids == (2, 1)
@@ -30,9 +36,11 @@ def test_every_dialect_gives_the_same_graph(text: str) -> None:
 
 
 def test_normalisation_and_identity() -> None:
-    text = ("O\tBowl  \nS\tcontains\t{jelly, peanut butter}\nS\tEmpty\nS\thot\n"
-            "O\tbread\nS\tin\t[bowl]  \nS\ton\nM\tMix \n"
-            "O\tbowl\nS\thot\nS\tempty\nS\twith\t{ peanut butter,jelly}\n//\n")
+    text = (
+        "O\tBowl  \nS\tcontains\t{jelly, peanut butter}\nS\tEmpty\nS\thot\n"
+        "O\tbread\nS\tin\t[bowl]  \nS\ton\nM\tMix \n"
+        "O\tbowl\nS\thot\nS\tempty\nS\twith\t{ peanut butter,jelly}\n//\n"
+    )
     f = foon.Foon.from_text(text)
     # Label and states lower-cased and right-stripped; ingredients kept as written (the
     # space before "peanut butter" stays), relation words ignored, "S\ton" is a state.
@@ -47,7 +55,9 @@ def test_normalisation_and_identity() -> None:
 
 
 def test_duplicates_inside_lists_are_kept() -> None:
-    f = foon.Foon.from_text("O\ta\nS\tx\nS\tx\nM\tm\nO\tb\nS\ty\n//\nO\ta\nS\tx\nM\tm\nO\tb\nS\tz\n//\n")
+    f = foon.Foon.from_text(
+        "O\ta\nS\tx\nS\tx\nM\tm\nO\tb\nS\ty\n//\nO\ta\nS\tx\nM\tm\nO\tb\nS\tz\n//\n"
+    )
     assert f.object(0).states == ("x", "x")
     assert f.object_count == 4  # a(x,x), b(y), a(x), b(z)
 
@@ -61,9 +71,11 @@ def test_duplicate_units_are_dropped_and_counted() -> None:
 
 
 def test_warnings_name_the_line_and_strict_mode_raises() -> None:
-    text = ("O\ta\nS\tx\nO\tb\nS\ty\n//\n"          # no motion: warning at line 5
-            "O\ta\nS\tx\nM\tm\nO\tb\nM\tn\nO\tc\n//\n"  # two motions: warning at line 10
-            "O\ta\nS\tx\nM\tm\nO\tb\nS\ty\n")           # unterminated: warning at line 17
+    text = (
+        "O\ta\nS\tx\nO\tb\nS\ty\n//\n"  # no motion: warning at line 5
+        "O\ta\nS\tx\nM\tm\nO\tb\nM\tn\nO\tc\n//\n"  # two motions: warning at line 10
+        "O\ta\nS\tx\nM\tm\nO\tb\nS\ty\n"
+    )  # unterminated: warning at line 17
     with pytest.warns(foon.FoonWarning) as rec:
         f = foon.Foon.from_text(text, path="t.foon")
     assert [str(w.message) for w in rec] == [
@@ -72,8 +84,11 @@ def test_warnings_name_the_line_and_strict_mode_raises() -> None:
         "t.foon:17:1: the last functional unit has no closing '//'; it is kept [unterminated]",
     ]
     assert f.fu_count == 1
-    assert [(w[1], w[3]) for w in f.warnings] == [(5, "no-motion"), (10, "two-motions"),
-                                                   (17, "unterminated")]
+    assert [(w[1], w[3]) for w in f.warnings] == [
+        (5, "no-motion"),
+        (10, "two-motions"),
+        (17, "unterminated"),
+    ]
     with pytest.raises(foon.ParseError, match=r"t.foon:5:1: .*no motion line.*strict mode"):
         foon.Foon.from_text(text, path="t.foon", strict=True)
 
@@ -85,12 +100,15 @@ def test_comments_blank_lines_and_empty_trailing_fields() -> None:
 
 
 def test_write_back_keeps_each_units_own_order() -> None:
-    text = ("O\tbowl\nS\tcold\nS\tempty\nM\tm\nO\tbowl\nS\tx\n//\n"
-            "O\tbowl\nS\tempty\nS\tcold\nS\tcontains\t{b,a}\nS\tin\t[sink]\nM\tn\nO\tbowl\nS\ty\n//\n")
+    text = (
+        "O\tbowl\nS\tcold\nS\tempty\nM\tm\nO\tbowl\nS\tx\n//\n"
+        "O\tbowl\nS\tempty\nS\tcold\nS\tcontains\t{b,a}\nS\tin\t[sink]\nM\tn\nO\tbowl\nS\ty\n//\n"
+    )
     f = foon.Foon.from_text(text)
     assert f.fu_text(0) == "O\tbowl\nS\tcold\nS\tempty\nM\tm\nO\tbowl\nS\tx\n//"
-    assert f.fu_text(1) == ("O\tbowl\nS\tempty\nS\tcold\nS\tcontains\t{b,a}\nS\tin\t[sink]\n"
-                            "M\tn\nO\tbowl\nS\ty\n//")
+    assert f.fu_text(1) == (
+        "O\tbowl\nS\tempty\nS\tcold\nS\tcontains\t{b,a}\nS\tin\t[sink]\nM\tn\nO\tbowl\nS\ty\n//"
+    )
     again = foon.Foon.from_text(f.to_text())
     assert again.fu_count == f.fu_count and again.object_count == f.object_count
     assert again.to_text() == f.to_text()

@@ -77,6 +77,13 @@ pub enum Error {
     },
     /// The goal is not an object of the FOON.
     GoalNotFound { goal: String },
+    /// A goal given by its label only, which several objects have: the label, how many
+    /// objects have it, and the first few of them, described.
+    GoalAmbiguous {
+        label: String,
+        count: usize,
+        shown: Vec<String>,
+    },
     /// A motion used by a candidate FU has no success rate and no default was given.
     MissingRate { motion: String },
     /// A bad argument (unknown method name, rate out of range, ...).
@@ -124,6 +131,21 @@ impl fmt::Display for Error {
             }
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::GoalNotFound { goal } => write!(f, "The goal node does not exist: {goal}"),
+            Self::GoalAmbiguous {
+                label,
+                count,
+                shown,
+            } => {
+                write!(
+                    f,
+                    "the label '{label}' matches {count} objects: {}",
+                    shown.join("; ")
+                )?;
+                if *count > shown.len() {
+                    write!(f, "; and {} more", count - shown.len())?;
+                }
+                f.write_str(" \u{2014} give the goal as JSON to choose one")
+            }
             Self::MissingRate { motion } => write!(
                 f,
                 "motion '{motion}' has no success rate in the motion table \
@@ -169,6 +191,13 @@ pub enum WarningKind {
     DuplicateIngredient,
     /// Lint note: `[]`, an empty container name.
     EmptyContainer,
+    /// A second container line on one object; the last one wins (course rule).
+    TwoContainers,
+    /// A second ingredient list on one object; the last one wins (course rule).
+    TwoIngredientLists,
+    /// An empty item in an ingredient list (`{}`, `{a,}`); kept as the ingredient `''`, as
+    /// the course parser does.
+    EmptyIngredient,
 }
 
 impl WarningKind {
@@ -180,7 +209,41 @@ impl WarningKind {
             Self::SpacedIngredient => "spaced-ingredient",
             Self::DuplicateIngredient => "duplicate-ingredient",
             Self::EmptyContainer => "empty-container",
+            Self::TwoContainers => "two-containers",
+            Self::TwoIngredientLists => "two-ingredient-lists",
+            Self::EmptyIngredient => "empty-ingredient",
         }
+    }
+
+    /// What loading does about a fault of this kind (the end of its warning message), for the
+    /// kinds that strict mode turns into errors; `None` for lint notes, which it ignores.
+    pub fn consequence(self) -> Option<&'static str> {
+        match self {
+            Self::NoMotion | Self::TwoMotions => Some("it is dropped"),
+            Self::Unterminated => Some("it is kept"),
+            Self::TwoContainers | Self::TwoIngredientLists => Some("the last one wins"),
+            Self::EmptyIngredient => Some("it is kept as the ingredient '' (course rule)"),
+            Self::SpacedIngredient | Self::DuplicateIngredient | Self::EmptyContainer => None,
+        }
+    }
+
+    /// Whether a warning of this kind is a load warning ([`crate::Foon::warnings`]: a unit
+    /// dropped or kept unterminated); the other kinds are found by `foon check`
+    /// ([`crate::Foon::notes`]).
+    pub fn is_load_warning(self) -> bool {
+        matches!(self, Self::NoMotion | Self::TwoMotions | Self::Unterminated)
+    }
+}
+
+impl Warning {
+    /// The warning for `fault` (what is wrong), ending with what loading does about it.
+    /// Strict mode reports the same fault as an error: "`fault` (strict mode)".
+    pub fn fault(at: Location, kind: WarningKind, fault: &str) -> Self {
+        let message = match kind.consequence() {
+            Some(c) => format!("{fault}; {c}"),
+            None => fault.to_owned(),
+        };
+        Self { at, kind, message }
     }
 }
 

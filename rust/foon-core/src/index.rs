@@ -10,7 +10,8 @@ use std::hash::Hasher;
 use hashbrown::HashTable;
 use rustc_hash::FxHasher;
 
-use crate::error::Warning;
+use crate::error::{Error, Result, Warning};
+use crate::model::{ObjectSpec, canonical_into};
 
 /// "No value" in a `u32` column (no container, no metadata).
 pub const NONE: u32 = u32::MAX;
@@ -201,6 +202,8 @@ pub struct Foon {
     pub(crate) motions: Vec<u32>,
     /// Object ids, hashed by identity (see [`identity_hash`]).
     pub(crate) identity: HashTable<u32>,
+    /// FU indices, hashed by FU identity (see [`fu_key_into`]).
+    pub(crate) fu_identity: HashTable<u32>,
     // Load report.
     pub(crate) warnings: Vec<Warning>,
     /// Lint notes found while parsing (not warnings: strict mode ignores them).
@@ -389,11 +392,10 @@ impl Foon {
         ingredients: &[u32],
         container: u32,
     ) -> Option<u32> {
-        let mut st = states.to_vec();
-        st.sort_unstable();
-        let mut ing = ingredients.to_vec();
-        ing.sort_unstable();
-        self.find_sorted(label, &st, &ing, container)
+        let mut key = Vec::with_capacity(states.len() + ingredients.len());
+        let ns = canonical_into(states, ingredients, &mut key);
+        let (st, ing) = key.split_at(ns);
+        self.find_sorted(label, st, ing, container)
     }
 
     /// As [`Foon::find_object_ids`], with states and ingredients already sorted by id.
@@ -454,6 +456,72 @@ impl Foon {
             .collect()
     }
 
+    /// The FU with this identity (motion string id, and inputs and outputs as object ids
+    /// in any order: multisets), if there is one. The identity is the one that drops
+    /// duplicate FUs on load.
+    pub fn find_fu(&self, motion: u32, inputs: &[u32], outputs: &[u32]) -> Option<u32> {
+        let mut key = Vec::new();
+        fu_key_into(motion, inputs, outputs, &mut key);
+        let mut scratch = Vec::new();
+        self.fu_identity
+            .find(slice_hash(&key), |&g| {
+                fu_key_into(
+                    self.fu_motion[g as usize],
+                    self.inputs(g),
+                    self.outputs(g),
+                    &mut scratch,
+                );
+                scratch == key
+            })
+            .copied()
+    }
+
+    /// The goal object for a spec: the object with its identity, or
+    /// [`Error::GoalNotFound`] ("The goal node does not exist: ...").
+    pub fn goal_by_spec(&self, spec: &ObjectSpec) -> Result<u32> {
+        spec.find_in(self).ok_or_else(|| Error::GoalNotFound {
+            goal: spec.describe(),
+        })
+    }
+
+    /// The goal object for a label that exactly one object has; [`Error::GoalNotFound`]
+    /// when none has it, [`Error::GoalAmbiguous`] (one line, at most five objects shown)
+    /// when several have it.
+    pub fn goal_by_label(&self, label: &str) -> Result<u32> {
+        const SHOWN: usize = 5;
+        let ids = self.objects_with_label(label);
+        match ids.as_slice() {
+            [] => Err(Error::GoalNotFound {
+                goal: label.to_owned(),
+            }),
+            [one] => Ok(*one),
+            many => Err(Error::GoalAmbiguous {
+                label: label.to_owned(),
+                count: many.len(),
+                shown: many
+                    .iter()
+                    .take(SHOWN)
+                    .map(|&o| ObjectSpec::of_object(self, o).describe())
+                    .collect(),
+            }),
+        }
+    }
+
+    /// The goal object for an object id: `id` itself when it is an object of this FOON,
+    /// else [`Error::GoalNotFound`].
+    pub fn goal_by_id(&self, id: u32) -> Result<u32> {
+        if (id as usize) < self.object_count() {
+            Ok(id)
+        } else {
+            Err(Error::GoalNotFound {
+                goal: format!(
+                    "object id {id} (the FOON has {} objects)",
+                    self.object_count()
+                ),
+            })
+        }
+    }
+
     pub fn stats(&self) -> Stats {
         let produced = (0..self.object_count() as u32)
             .filter(|&o| !self.producers(o).is_empty())
@@ -467,7 +535,7 @@ impl Foon {
             + (self.obj_label.capacity() + self.obj_container.capacity()) * 4
             + (self.fu_motion.capacity() + self.fu_line.capacity()) * 4
             + self.strings.heap_bytes()
-            + self.identity.capacity() * 5;
+            + (self.identity.capacity() + self.fu_identity.capacity()) * 5;
         Stats {
             functional_units: self.fu_count(),
             objects: self.object_count(),
@@ -500,6 +568,19 @@ pub(crate) fn identity_hash(
     h.finish()
 }
 
+/// The identity key of an FU: its motion, the number of inputs, the inputs sorted, the
+/// outputs sorted (SEMANTICS §2: same motion, same multisets of inputs and of outputs).
+fn fu_key_into(motion: u32, inputs: &[u32], outputs: &[u32], key: &mut Vec<u32>) {
+    key.clear();
+    key.push(motion);
+    key.push(inputs.len() as u32);
+    key.extend_from_slice(inputs);
+    key[2..].sort_unstable();
+    let s = key.len();
+    key.extend_from_slice(outputs);
+    key[s..].sort_unstable();
+}
+
 fn variant_hash(obj: u32, states: &[u32], ingredients: &[u32]) -> u64 {
     identity_hash(obj, 0, states, ingredients)
 }
@@ -516,9 +597,6 @@ fn slice_hash(key: &[u32]) -> u64 {
 #[derive(Debug, Default)]
 pub struct Builder {
     foon: Foon,
-    /// FU ids hashed by (motion, sorted inputs, sorted outputs); `fu_hash` keeps each hash.
-    fu_keys: HashTable<u32>,
-    fu_hash: Vec<u64>,
     /// Variant ids hashed by (object, states and ingredients in written order).
     variants: HashTable<u32>,
     scratch: Vec<u32>,
@@ -563,12 +641,7 @@ impl Builder {
     fn object(&mut self, raw: &RawObject<'_>) -> (u32, u32) {
         // Canonical form: states then ingredients, each sorted by id, in one scratch buffer.
         let key = &mut self.id_key;
-        key.clear();
-        key.extend_from_slice(raw.states);
-        key.sort_unstable();
-        let ns = key.len();
-        key.extend_from_slice(raw.ingredients);
-        key[ns..].sort_unstable();
+        let ns = canonical_into(raw.states, raw.ingredients, key);
         let (states, ingredients) = key.split_at(ns);
         let f = &mut self.foon;
         let obj = if let Some(o) = f.find_sorted(raw.label, states, ingredients, raw.container) {
@@ -650,25 +723,17 @@ impl Builder {
             out_ids.push(o);
             out_vars.push(v);
         }
-        key.push(motion);
-        key.push(in_ids.len() as u32);
-        key.extend_from_slice(&in_ids);
-        key[2..].sort_unstable();
-        let s = key.len();
-        key.extend_from_slice(&out_ids);
-        key[s..].sort_unstable();
+        fu_key_into(motion, &in_ids, &out_ids, &mut key);
         let h = slice_hash(&key);
         let f = &self.foon;
         let scratch = &mut self.scratch;
-        let found = self.fu_keys.find(h, |&g| {
-            scratch.clear();
-            scratch.push(f.fu_motion[g as usize]);
-            scratch.push(f.fu_inputs.row(g).len() as u32);
-            scratch.extend_from_slice(f.fu_inputs.row(g));
-            scratch[2..].sort_unstable();
-            let s = scratch.len();
-            scratch.extend_from_slice(f.fu_outputs.row(g));
-            scratch[s..].sort_unstable();
+        let found = f.fu_identity.find(h, |&g| {
+            fu_key_into(
+                f.fu_motion[g as usize],
+                f.fu_inputs.row(g),
+                f.fu_outputs.row(g),
+                scratch,
+            );
             *scratch == key
         });
         let result = if let Some(&first) = found {
@@ -677,9 +742,6 @@ impl Builder {
         } else {
             let f = &mut self.foon;
             let idx = f.fu_motion.len() as u32;
-            self.fu_hash.push(h);
-            let hashes = &self.fu_hash;
-            self.fu_keys.insert_unique(h, idx, |&x| hashes[x as usize]);
             f.fu_motion.push(motion);
             f.fu_motion_meta.push(motion_meta);
             f.fu_line.push(line);
@@ -691,6 +753,14 @@ impl Builder {
                 .extend(inputs.iter().map(|r| r.in_motion));
             f.fu_output_in_motion
                 .extend(outputs.iter().map(|r| r.in_motion));
+            let (motions, ins, outs) = (&f.fu_motion, &f.fu_inputs, &f.fu_outputs);
+            // Rehashing (when the table grows) recomputes each key in one scratch buffer.
+            let k = std::cell::RefCell::new(Vec::new());
+            f.fu_identity.insert_unique(h, idx, |&x| {
+                let mut k = k.borrow_mut();
+                fu_key_into(motions[x as usize], ins.row(x), outs.row(x), &mut k);
+                slice_hash(&k)
+            });
             let m = motion as usize;
             if self.motion_seen.len() <= m {
                 self.motion_seen.resize(m + 1, false);

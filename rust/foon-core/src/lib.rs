@@ -6,13 +6,17 @@ pub mod companion;
 pub mod error;
 pub mod index;
 pub mod lint;
+pub mod model;
 pub mod parse;
 pub mod search;
 pub mod verify;
 pub mod write;
 
-pub use companion::{MotionRates, ObjectSpec};
+pub use companion::MotionRates;
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
 pub use index::{Foon, NONE, Stats};
-pub use parse::{ParseOptions, load_foon, parse_foon};
+pub use model::{ObjectSpec, check_rate};
+pub use parse::{
+    ParseOptions, load_foon, load_foon_cancellable, parse_foon, parse_foon_cancellable,
+};
 pub use search::{Compat, Context, Count, Explanation, Method, Plan, Prepared, Query};

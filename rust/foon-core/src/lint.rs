@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use crate::companion::{MotionRates, ObjectSpec, parse_objects};
-use crate::error::{Error, InputKind, Location, Warning};
+use crate::companion::{MotionRates, ObjectSpec, parse_objects_noting, parse_rates_recovering};
+use crate::error::{Error, InputKind, Location, Warning, WarningKind};
 use crate::index::Foon;
 use crate::parse::{ParseOptions, parse_foon_recovering};
 use crate::search::Context;
@@ -76,10 +76,20 @@ fn from_error(e: Error, path: Option<&Path>) -> Finding {
     }
 }
 
-fn from_warning(w: &Warning, severity: Severity) -> Finding {
+/// The severity of a warning found while parsing: a fault that strict mode rejects is a
+/// warning, the other kinds (spaced or repeated ingredients, `[]`) are notes.
+fn severity_of(kind: WarningKind) -> Severity {
+    if kind.consequence().is_some() {
+        Severity::Warning
+    } else {
+        Severity::Note
+    }
+}
+
+fn from_warning(w: &Warning) -> Finding {
     Finding {
         at: w.at.clone(),
-        severity,
+        severity: severity_of(w.kind),
         code: w.kind.as_str(),
         message: w.message.clone(),
     }
@@ -88,19 +98,16 @@ fn from_warning(w: &Warning, severity: Severity) -> Finding {
 /// Checks one input (FOON text, or a list of objects in FOON block form).
 pub fn lint(data: &[u8], path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Finding> {
     if is_object_list(data) {
-        return match parse_objects(data, path, InputKind::Kitchen) {
-            Ok(_) => Vec::new(),
+        let mut notes = Vec::new();
+        return match parse_objects_noting(data, path, InputKind::Kitchen, &mut notes) {
+            Ok(_) => notes.iter().map(from_warning).collect(),
             Err(e) => vec![from_error(e, path)],
         };
     }
     let (foon, errors) = parse_foon_recovering(data, path, ParseOptions::default());
     let mut out: Vec<Finding> = errors.into_iter().map(|e| from_error(e, path)).collect();
-    out.extend(
-        foon.warnings()
-            .iter()
-            .map(|w| from_warning(w, Severity::Warning)),
-    );
-    out.extend(foon.notes().iter().map(|w| from_warning(w, Severity::Note)));
+    out.extend(foon.warnings().iter().map(from_warning));
+    out.extend(foon.notes().iter().map(from_warning));
     for d in foon.duplicates() {
         out.push(Finding {
             at: Location::new(path, u64::from(d.line), 1),
@@ -197,4 +204,28 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
 pub fn lint_file(path: &Path, opts: &LintOptions<'_>) -> crate::Result<Vec<Finding>> {
     let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     Ok(lint(&data, Some(path), opts))
+}
+
+/// Checks a motion table: every bad line is an error finding (code `syntax`; a motion with
+/// two different rates is one too, code `two-rates`), and the rates of the good lines are
+/// returned for the cross-checks of [`lint`] (of a motion with two rates, the first).
+pub fn lint_rates_data(data: &[u8], path: Option<&Path>) -> (MotionRates, Vec<Finding>) {
+    let (rates, errors) = parse_rates_recovering(data, path);
+    let findings = errors
+        .into_iter()
+        .map(|(e, two_rates)| {
+            let mut f = from_error(e, path);
+            if two_rates {
+                f.code = "two-rates";
+            }
+            f
+        })
+        .collect();
+    (rates, findings)
+}
+
+/// Reads and checks a motion table (see [`lint_rates_data`]).
+pub fn lint_rates(path: &Path) -> crate::Result<(MotionRates, Vec<Finding>)> {
+    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    Ok(lint_rates_data(&data, Some(path)))
 }

@@ -250,9 +250,23 @@ impl Block {
     }
 }
 
+/// How many lines are read between two calls of a cancel closure.
+const CANCEL_EVERY_LINES: u64 = 4096;
+
 /// Parses FOON text into an index.
 pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Result<Foon> {
-    parse_impl(data, path, opts, None)
+    parse_foon_cancellable(data, path, opts, &|| false)
+}
+
+/// As [`parse_foon`], calling `cancel` every few thousand lines: when it answers true, the
+/// parse stops with [`Error::Cancelled`].
+pub fn parse_foon_cancellable(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Foon> {
+    parse_impl(data, path, opts, None, cancel)
 }
 
 /// Parses FOON text, going on after malformed lines: each error is collected and the unit it
@@ -263,7 +277,7 @@ pub fn parse_foon_recovering(
     opts: ParseOptions,
 ) -> (Foon, Vec<Error>) {
     let mut errors = Vec::new();
-    match parse_impl(data, path, opts, Some(&mut errors)) {
+    match parse_impl(data, path, opts, Some(&mut errors), &|| false) {
         Ok(f) => (f, errors),
         Err(e) => {
             errors.push(e);
@@ -277,6 +291,7 @@ fn parse_impl(
     path: Option<&Path>,
     opts: ParseOptions,
     mut errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Foon> {
     let mut b = Builder::new();
     let mut block = Block::default();
@@ -295,32 +310,26 @@ fn parse_impl(
             None // already reported at the second motion line
         } else if block.motion.is_none() {
             Some((
-                warn_line,
                 WarningKind::NoMotion,
                 format!(
-                    "functional unit starting at line {} has no motion line; it is dropped",
+                    "functional unit starting at line {} has no motion line",
                     block.start_line
                 ),
             ))
         } else if end_line.is_none() {
             Some((
-                warn_line,
                 WarningKind::Unterminated,
-                "the last functional unit has no closing '//'; it is kept".to_owned(),
+                "the last functional unit has no closing '//'".to_owned(),
             ))
         } else {
             None
         };
-        if let Some((line, kind, message)) = warning {
-            if opts.strict {
+        if let Some((kind, fault)) = warning {
+            let at = Location::new(path, warn_line, 1);
+            if let Err(e) = report(b, opts.strict, at, kind, &fault) {
                 block.clear();
-                return Err(err(line, 1, format!("{message} (strict mode)")));
+                return Err(e);
             }
-            b.warn(Warning {
-                at: Location::new(path, line, 1),
-                kind,
-                message,
-            });
         }
         if let (Some((motion, meta)), false) = (block.motion, block.two_motions) {
             let raws: Vec<RawObject<'_>> = block.objects.iter().map(|s| block.raw(s)).collect();
@@ -331,7 +340,10 @@ fn parse_impl(
         Ok(())
     };
 
-    for line in Lines::new(data, path, InputKind::Foon) {
+    for (n, line) in Lines::new(data, path, InputKind::Foon).enumerate() {
+        if n as u64 % CANCEL_EVERY_LINES == 0 && cancel() {
+            return Err(Error::Cancelled);
+        }
         let ended = std::cell::Cell::new(false);
         let one_line = || -> Result<()> {
             let line = line?;
@@ -399,74 +411,95 @@ fn parse_impl(
                         ));
                     }
                     if let Some(&(f2_off, f2)) = fields.get(2) {
-                        let v = f2.trim_end();
                         let col = line.column_of(f2_off);
-                        if let Some(inner) = v.strip_prefix('{') {
-                            let Some(inner) = inner.strip_suffix('}') else {
-                                return Err(err(
-                                    line.number,
-                                    col,
-                                    "ingredient list has no closing '}'".to_owned(),
-                                ));
-                            };
-                            let start = block.ingredients.len() as u32;
-                            let mut offset = f2_off + 1;
-                            for ing in inner.split(',') {
-                                let at = Location::new(path, line.number, line.column_of(offset));
-                                if ing != ing.trim() {
+                        let at =
+                            |byte: usize| Location::new(path, line.number, line.column_of(byte));
+                        let obj = block.objects.last().copied();
+                        match annotation(f2).map_err(|r| err(line.number, col, r))? {
+                            Annotation::Ingredients(inner) => {
+                                if let Some(o) = obj.filter(|o| o.ingredients.0 != o.ingredients.1)
+                                {
+                                    let old: Vec<&str> = block.ingredients
+                                        [o.ingredients.0 as usize..o.ingredients.1 as usize]
+                                        .iter()
+                                        .map(|&i| b.text(i))
+                                        .collect();
+                                    let fault =
+                                        second_list_fault(b.text(o.label), &old.join(","), inner);
+                                    report(
+                                        &mut b,
+                                        opts.strict,
+                                        at(f2_off),
+                                        WarningKind::TwoIngredientLists,
+                                        &fault,
+                                    )?;
+                                }
+                                let start = block.ingredients.len() as u32;
+                                let mut offset = f2_off + 1;
+                                for ing in inner.split(',') {
+                                    if ing.is_empty() {
+                                        let fault = empty_ingredient_fault(inner);
+                                        report(
+                                            &mut b,
+                                            opts.strict,
+                                            at(offset),
+                                            WarningKind::EmptyIngredient,
+                                            &fault,
+                                        )?;
+                                    } else if ing != ing.trim() {
+                                        b.note(Warning {
+                                            at: at(offset),
+                                            kind: WarningKind::SpacedIngredient,
+                                            message: format!(
+                                                "ingredient '{ing}' has leading or trailing spaces"
+                                            ),
+                                        });
+                                    }
+                                    let id = b.intern(ing);
+                                    if block.ingredients[start as usize..].contains(&id) {
+                                        b.note(Warning {
+                                            at: at(offset),
+                                            kind: WarningKind::DuplicateIngredient,
+                                            message: format!("ingredient '{ing}' is listed twice"),
+                                        });
+                                    }
+                                    block.ingredients.push(id);
+                                    offset += ing.len() + 1;
+                                }
+                                // A later list replaces an earlier one (course behaviour), so the
+                                // object's range is the latest list.
+                                let end = block.ingredients.len() as u32;
+                                if let Some(o) = block.objects.last_mut() {
+                                    o.ingredients = (start, end);
+                                }
+                            }
+                            Annotation::Container(inner) => {
+                                if let Some(o) = obj.filter(|o| o.container != NONE) {
+                                    let fault = second_container_fault(
+                                        b.text(o.label),
+                                        b.text(o.container),
+                                        inner,
+                                    );
+                                    report(
+                                        &mut b,
+                                        opts.strict,
+                                        at(f2_off),
+                                        WarningKind::TwoContainers,
+                                        &fault,
+                                    )?;
+                                }
+                                if inner.trim().is_empty() {
                                     b.note(Warning {
-                                        at: at.clone(),
-                                        kind: WarningKind::SpacedIngredient,
-                                        message: format!(
-                                            "ingredient '{ing}' has leading or trailing spaces"
-                                        ),
+                                        at: at(f2_off),
+                                        kind: WarningKind::EmptyContainer,
+                                        message: format!("empty container '[{inner}]'"),
                                     });
                                 }
-                                let id = b.intern(ing);
-                                if block.ingredients[start as usize..].contains(&id) {
-                                    b.note(Warning {
-                                        at,
-                                        kind: WarningKind::DuplicateIngredient,
-                                        message: format!("ingredient '{ing}' is listed twice"),
-                                    });
+                                let id = b.intern(inner);
+                                if let Some(o) = block.objects.last_mut() {
+                                    o.container = id;
                                 }
-                                block.ingredients.push(id);
-                                offset += ing.len() + 1;
                             }
-                            // A later list replaces an earlier one (course behaviour), so the
-                            // object's range is the latest list.
-                            let end = block.ingredients.len() as u32;
-                            if let Some(o) = block.objects.last_mut() {
-                                o.ingredients = (start, end);
-                            }
-                        } else if let Some(inner) = v.strip_prefix('[') {
-                            let Some(inner) = inner.strip_suffix(']') else {
-                                return Err(err(
-                                    line.number,
-                                    col,
-                                    "container has no closing ']'".to_owned(),
-                                ));
-                            };
-                            if inner.trim().is_empty() {
-                                b.note(Warning {
-                                    at: Location::new(path, line.number, col),
-                                    kind: WarningKind::EmptyContainer,
-                                    message: format!("empty container '{v}'"),
-                                });
-                            }
-                            let id = b.intern(inner);
-                            if let Some(o) = block.objects.last_mut() {
-                                o.container = id;
-                            }
-                        } else {
-                            let shown: String = v.chars().take(30).collect();
-                            return Err(err(
-                                line.number,
-                                col,
-                                format!(
-                                    "expected '{{ingredients}}' or '[container]' in the third field, found '{shown}'"
-                                ),
-                            ));
                         }
                     } else {
                         let id = b.intern(&value);
@@ -477,22 +510,12 @@ fn parse_impl(
                     if block.motion.is_some() {
                         if !block.two_motions {
                             block.two_motions = true;
-                            let message = format!(
-                                "functional unit starting at line {} has a second motion line; it is dropped",
+                            let fault = format!(
+                                "functional unit starting at line {} has a second motion line",
                                 block.start_line
                             );
-                            if opts.strict {
-                                return Err(err(
-                                    line.number,
-                                    1,
-                                    format!("{message} (strict mode)"),
-                                ));
-                            }
-                            b.warn(Warning {
-                                at: Location::new(path, line.number, 1),
-                                kind: WarningKind::TwoMotions,
-                                message,
-                            });
+                            let at = Location::new(path, line.number, 1);
+                            report(&mut b, opts.strict, at, WarningKind::TwoMotions, &fault)?;
                         }
                         return Ok(());
                     }
@@ -527,6 +550,77 @@ fn parse_impl(
     Ok(b.finish(path.map(Path::to_path_buf)))
 }
 
+/// Reports a fault of `kind` at `at`: in strict mode an error, otherwise a warning (a load
+/// warning or a lint note, per [`WarningKind::is_load_warning`]) that ends with what is done.
+fn report(
+    b: &mut Builder,
+    strict: bool,
+    at: Location,
+    kind: WarningKind,
+    fault: &str,
+) -> Result<()> {
+    if strict {
+        return Err(Error::Parse {
+            at,
+            kind: InputKind::Foon,
+            reason: format!("{fault} (strict mode)"),
+        });
+    }
+    let w = Warning::fault(at, kind, fault);
+    if kind.is_load_warning() {
+        b.warn(w);
+    } else {
+        b.note(w);
+    }
+    Ok(())
+}
+
+/// The third field of an `S` line: an ingredient list `{a,b}` or a container `[c]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Annotation<'a> {
+    /// The text between the braces; its items are split on `,` and nothing is stripped.
+    Ingredients(&'a str),
+    /// The text between the brackets.
+    Container(&'a str),
+}
+
+/// Reads the third field of an `S` line (right-stripped), the one grammar of FOON files and
+/// of object lists. The error is a reason; its column is the field's.
+pub(crate) fn annotation(field: &str) -> std::result::Result<Annotation<'_>, String> {
+    let v = field.trim_end();
+    if let Some(inner) = v.strip_prefix('{') {
+        inner
+            .strip_suffix('}')
+            .map(Annotation::Ingredients)
+            .ok_or_else(|| "ingredient list has no closing '}'".to_owned())
+    } else if let Some(inner) = v.strip_prefix('[') {
+        inner
+            .strip_suffix(']')
+            .map(Annotation::Container)
+            .ok_or_else(|| "container has no closing ']'".to_owned())
+    } else {
+        let shown: String = v.chars().take(30).collect();
+        Err(format!(
+            "expected '{{ingredients}}' or '[container]' in the third field, found '{shown}'"
+        ))
+    }
+}
+
+/// The fault of a second container line on one object (the last one wins).
+pub(crate) fn second_container_fault(label: &str, old: &str, new: &str) -> String {
+    format!("object '{label}' has a second container: [{new}] after [{old}]")
+}
+
+/// The fault of a second ingredient list on one object (the last one wins).
+pub(crate) fn second_list_fault(label: &str, old: &str, new: &str) -> String {
+    format!("object '{label}' has a second ingredient list: {{{new}}} after {{{old}}}")
+}
+
+/// The fault of an empty item in an ingredient list (kept, as the course does).
+pub(crate) fn empty_ingredient_fault(list: &str) -> String {
+    format!("empty ingredient name in '{{{list}}}'")
+}
+
 /// Appends a plain state to the last object of the block (its states are the last ones
 /// pushed, since an object's lines are contiguous).
 fn push_state(block: &mut Block, id: u32) {
@@ -539,6 +633,19 @@ fn push_state(block: &mut Block, id: u32) {
 
 /// Reads a file and parses it as FOON text.
 pub fn load_foon(path: &Path, opts: ParseOptions) -> Result<Foon> {
+    load_foon_cancellable(path, opts, &|| false)
+}
+
+/// As [`load_foon`], calling `cancel` every few thousand lines (see
+/// [`parse_foon_cancellable`]).
+pub fn load_foon_cancellable(
+    path: &Path,
+    opts: ParseOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Foon> {
+    if cancel() {
+        return Err(Error::Cancelled);
+    }
     let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse_foon(&data, Some(path), opts)
+    parse_foon_cancellable(&data, Some(path), opts, cancel)
 }

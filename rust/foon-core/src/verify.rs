@@ -57,7 +57,7 @@ pub fn verify_tree(
             .collect(),
     });
     let goal_id = goal.find_in(tree);
-    let in_kitchen = kitchen.iter().any(|k| same_identity(k, goal));
+    let in_kitchen = kitchen.contains(goal);
     let goal_made = in_kitchen || goal_id.is_some_and(|g| avail[g as usize]);
     let foreign_units = (0..n)
         .filter(|&f| !has_unit(foon, tree, f))
@@ -72,42 +72,19 @@ pub fn verify_tree(
     })
 }
 
-fn same_identity(a: &ObjectSpec, b: &ObjectSpec) -> bool {
-    let sorted = |v: &[String]| {
-        let mut v = v.to_vec();
-        v.sort_unstable();
-        v
-    };
-    a.label == b.label
-        && a.container == b.container
-        && sorted(&a.states) == sorted(&b.states)
-        && sorted(&a.ingredients) == sorted(&b.ingredients)
-}
-
-/// Whether unit `f` of `tree` is a unit of `foon` (same motion, same multisets of objects).
+/// Whether unit `f` of `tree` is a unit of `foon`: one with the same identity (motion,
+/// multiset of inputs, multiset of outputs), found by that identity.
 fn has_unit(foon: &Foon, tree: &Foon, f: u32) -> bool {
     let map = |objs: &[u32]| -> Option<Vec<u32>> {
-        let mut ids: Vec<u32> = objs
-            .iter()
+        objs.iter()
             .map(|&o| ObjectSpec::of_object(tree, o).find_in(foon))
-            .collect::<Option<_>>()?;
-        ids.sort_unstable();
-        Some(ids)
+            .collect()
     };
     let (Some(ins), Some(outs)) = (map(tree.inputs(f)), map(tree.outputs(f))) else {
         return false;
     };
-    let motion = tree.motion_text(f);
-    let candidates: &[u32] = match (ins.first(), outs.first()) {
-        (Some(&i), _) => foon.consumers(i),
-        (None, Some(&o)) => foon.producers(o),
-        (None, None) => &[],
+    let Some(motion) = foon.strings().get(tree.motion_text(f)) else {
+        return false;
     };
-    candidates.iter().any(|&g| {
-        let mut gi = foon.inputs(g).to_vec();
-        let mut go = foon.outputs(g).to_vec();
-        gi.sort_unstable();
-        go.sort_unstable();
-        foon.motion_text(g) == motion && gi == ins && go == outs
-    })
+    foon.find_fu(motion, &ins, &outs).is_some()
 }

@@ -1,7 +1,8 @@
 //! The malformed-input corpus (`tests/malformed/` at the repository root), checked against the
 //! core directly: every case must fail with a parse error at the listed line and column whose
-//! reason contains the listed text. `tests/test_malformed.py` checks the same cases through
-//! the Python API and the CLI.
+//! reason contains the listed text. A case with a `warning` (a load warning) or a `note` (a
+//! `foon check` finding) is an error in strict mode only. `tests/test_malformed.py` checks
+//! the same cases through the Python API and the CLI.
 
 use std::path::{Path, PathBuf};
 
@@ -22,6 +23,10 @@ struct Case {
     strict: bool,
     #[serde(default)]
     warning: Option<String>,
+    /// A strict-only error that is a `foon check` finding (a lint note of the index, not a
+    /// load warning) without strict mode.
+    #[serde(default)]
+    note: Option<String>,
 }
 
 fn dir() -> PathBuf {
@@ -72,6 +77,20 @@ fn every_case_fails_where_listed() {
                 c.file
             );
             assert!(foon.warnings().iter().all(|w| w.at.line == c.line));
+        }
+        if let Some(n) = &c.note {
+            let foon = load_foon(&path, ParseOptions::default()).unwrap();
+            assert!(foon.warnings().is_empty(), "{}", c.file);
+            assert!(
+                foon.notes()
+                    .iter()
+                    .any(|w| w.kind.as_str() == n && (w.at.line, w.at.column) == (c.line, c.column)),
+                "{}: notes {:?}, expected {n} at {}:{}",
+                c.file,
+                foon.notes(),
+                c.line,
+                c.column
+            );
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));

@@ -1,0 +1,225 @@
+//! The domain model: an object given by its text fields ([`ObjectSpec`]), the one definition
+//! of object identity, and the one range check of success rates.
+
+use std::hash::{Hash, Hasher};
+
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::index::{Foon, NONE};
+
+/// The canonical form of an object's multisets, the one definition of object identity
+/// (SEMANTICS §2: label, container, and the states and the ingredients as sorted multisets).
+/// Writes the states, sorted, then the ingredients, sorted, into `key` and returns the number
+/// of states. The index applies it to string ids, [`ObjectSpec`] to text.
+pub(crate) fn canonical_into<T: Ord + Copy>(
+    states: &[T],
+    ingredients: &[T],
+    key: &mut Vec<T>,
+) -> usize {
+    key.clear();
+    key.extend_from_slice(states);
+    key.sort_unstable();
+    let ns = key.len();
+    key.extend_from_slice(ingredients);
+    key[ns..].sort_unstable();
+    ns
+}
+
+/// Checks a success rate: a number between 0 and 1 (NaN is not). `motion` names the motion
+/// in the message (`None` for a default rate). The one range check of rates.
+pub fn check_rate(motion: Option<&str>, r: f64) -> Result<f64> {
+    if (0.0..=1.0).contains(&r) {
+        return Ok(r);
+    }
+    Err(Error::Invalid(match motion {
+        Some(m) => format!("the rate of '{m}' is {r}, not between 0 and 1"),
+        None => format!("the default rate is {r}, not between 0 and 1"),
+    }))
+}
+
+/// An object given by its text fields (a kitchen item or a goal).
+///
+/// Two specs are equal (and hash alike) when they have the same identity: the same label and
+/// container, and the same states and ingredients as multisets (in any order).
+#[derive(Debug, Clone, Default)]
+pub struct ObjectSpec {
+    pub label: String,
+    pub states: Vec<String>,
+    pub ingredients: Vec<String>,
+    pub container: Option<String>,
+}
+
+/// Why a label is not valid, if it is not.
+fn label_fault(label: &str) -> Option<&'static str> {
+    label
+        .trim()
+        .is_empty()
+        .then_some("an object has an empty label")
+}
+
+/// Why a list of states is not valid, if it is not.
+fn states_fault(states: &[String]) -> Option<&'static str> {
+    states
+        .iter()
+        .any(|s| s.trim().is_empty())
+        .then_some("an object has an empty state")
+}
+
+impl ObjectSpec {
+    /// A checked spec: the one place that validates one. The label must not be empty (nor
+    /// only spaces), nor may any state. Ingredients may be empty strings (the course reads
+    /// `{}` as one ingredient `''`), and the container may be `Some("")` (`[]`).
+    pub fn new(
+        label: impl Into<String>,
+        states: Vec<String>,
+        ingredients: Vec<String>,
+        container: Option<String>,
+    ) -> Result<Self> {
+        let label = label.into();
+        if let Some(f) = label_fault(&label).or_else(|| states_fault(&states)) {
+            return Err(Error::Invalid(f.to_owned()));
+        }
+        Ok(Self {
+            label,
+            states,
+            ingredients,
+            container,
+        })
+    }
+
+    /// The identity: label, sorted states, sorted ingredients, container.
+    pub fn identity(&self) -> (&str, Vec<&str>, Vec<&str>, Option<&str>) {
+        let s: Vec<&str> = self.states.iter().map(String::as_str).collect();
+        let i: Vec<&str> = self.ingredients.iter().map(String::as_str).collect();
+        let mut key = Vec::with_capacity(s.len() + i.len());
+        let ns = canonical_into(&s, &i, &mut key);
+        let ingredients = key.split_off(ns);
+        (&self.label, key, ingredients, self.container.as_deref())
+    }
+
+    /// The object of `foon` with this identity.
+    pub fn find_in(&self, foon: &Foon) -> Option<u32> {
+        let s: Vec<&str> = self.states.iter().map(String::as_str).collect();
+        let i: Vec<&str> = self.ingredients.iter().map(String::as_str).collect();
+        foon.find_object(&self.label, &s, &i, self.container.as_deref())
+    }
+
+    /// A one-line description: `label (s1, s2) {ingredients} in [container]`.
+    pub fn describe(&self) -> String {
+        use std::fmt::Write as _;
+        let mut s = self.label.clone();
+        if !self.states.is_empty() {
+            let _ = write!(s, " ({})", self.states.join(", "));
+        }
+        if !self.ingredients.is_empty() {
+            let _ = write!(s, " {{{}}}", self.ingredients.join(","));
+        }
+        if let Some(c) = &self.container {
+            let _ = write!(s, " in [{c}]");
+        }
+        s
+    }
+
+    /// The object `obj` of `foon` as a spec, in its first written form.
+    pub fn of_object(foon: &Foon, obj: u32) -> Self {
+        let v = foon.first_variant(obj);
+        let c = foon.container(obj);
+        Self {
+            label: foon.label_text(obj).to_owned(),
+            states: foon
+                .variant_states(v)
+                .iter()
+                .map(|&s| foon.text(s).to_owned())
+                .collect(),
+            ingredients: foon
+                .variant_ingredients(v)
+                .iter()
+                .map(|&s| foon.text(s).to_owned())
+                .collect(),
+            container: (c != NONE).then(|| foon.text(c).to_owned()),
+        }
+    }
+}
+
+impl PartialEq for ObjectSpec {
+    fn eq(&self, other: &Self) -> bool {
+        self.identity() == other.identity()
+    }
+}
+
+impl Eq for ObjectSpec {}
+
+impl Hash for ObjectSpec {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.identity().hash(state);
+    }
+}
+
+/// The JSON form of an object: `{"label", "states", "ingredients", "container"}`. Every
+/// field but the label is optional, and `null` is the same as an absent field (no states, no
+/// ingredients, no container). Types are never coerced.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JsonObject {
+    #[serde(deserialize_with = "checked_label")]
+    label: String,
+    #[serde(default, deserialize_with = "checked_states")]
+    states: Option<Vec<String>>,
+    #[serde(default)]
+    ingredients: Option<Vec<String>>,
+    #[serde(default)]
+    container: Option<String>,
+}
+
+// The field checks run where each field is read, so that an error has the JSON parser's
+// location; they are the checks of `ObjectSpec::new`.
+fn checked_label<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<String, D::Error> {
+    let s = String::deserialize(d)?;
+    match label_fault(&s) {
+        Some(f) => Err(serde::de::Error::custom(f)),
+        None => Ok(s),
+    }
+}
+
+fn checked_states<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<Vec<String>>, D::Error> {
+    let v = Option::<Vec<String>>::deserialize(d)?;
+    match v.as_deref().and_then(states_fault) {
+        Some(f) => Err(serde::de::Error::custom(f)),
+        None => Ok(v),
+    }
+}
+
+/// Reads a [`JsonObject`] from a JSON object only (serde's derived form would also take a
+/// list of the field values, `["ice", ["crushed"]]`, which is not a kitchen item).
+struct ObjectOnly;
+
+impl<'de> serde::de::Visitor<'de> for ObjectOnly {
+    type Value = JsonObject;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("struct ObjectSpec")
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(
+        self,
+        map: A,
+    ) -> std::result::Result<JsonObject, A::Error> {
+        JsonObject::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+    }
+}
+
+impl<'de> Deserialize<'de> for ObjectSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let j = d.deserialize_map(ObjectOnly)?;
+        ObjectSpec::new(
+            j.label,
+            j.states.unwrap_or_default(),
+            j.ingredients.unwrap_or_default(),
+            j.container,
+        )
+        .map_err(serde::de::Error::custom)
+    }
+}
