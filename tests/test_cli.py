@@ -68,7 +68,7 @@ def test_label_goal_and_ambiguous_label(capsys: Capture) -> None:
     assert code == 0 and out.startswith("//\n")
     code, out, err = run(["plan", "--label", "onion"], capsys)
     assert code == 1 and out == ""
-    assert "matches" in err and "give states and container" in err
+    assert "matches" in err and "give the goal as JSON" in err
     assert "Traceback" not in err
 
 

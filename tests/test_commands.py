@@ -149,6 +149,10 @@ def test_check_reports_known_faults_of_the_data_set(capsys: Capture) -> None:
         "duplicate-ingredient": 530,
         "empty-container": 1,
         "duplicate-fu": 247,
+        # Conflicting annotations of one object (the last one wins, as in the course parser).
+        "two-containers": 251,
+        "two-ingredient-lists": 70,
+        "empty-ingredient": 17,
     }
     where = {(Path(f["path"]).name[:4], f["line"], f["code"]) for f in found}
     assert ("0083", 500, "no-motion") in where and ("0032", 114, "two-motions") in where

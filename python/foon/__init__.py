@@ -1128,15 +1128,19 @@ def check(
     """Lints FOON files: parse errors, annotation faults (no motion, two motions, no final
     ``//``), duplicate units, ingredients with stray spaces or listed twice, empty
     containers, objects reachable only through cycles; with a kitchen, objects that are used
-    but never produced nor in it; with motion rates, motions without a rate. Files of object
-    blocks (kitchens, goals) are checked as such."""
+    but never produced nor in it; with motion rates, motions without a rate (and, for a rate
+    file, its own faults, such as a motion with two rates). Files of object blocks (kitchens,
+    goals) are checked as such."""
     ps = [paths] if isinstance(paths, _PATH_TYPES) else list(paths)
-    rates = _as_rates(motions)
+    # A rate file is read by the linter itself, so its own faults are findings too.
+    rates_file = motions if isinstance(motions, _PATH_TYPES) else None
+    rates = None if rates_file is not None else _as_rates(motions)
     raw = _foon.check(
         ps,
         None if kitchen is None else _as_kitchen(kitchen)._tuples(),
         None if rates is None else list(rates.items()),
         _as_utensils(utensils),
+        rates_file,
     )
     return [Finding(*f) for f in raw]  # type: ignore[arg-type]
 

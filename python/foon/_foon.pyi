@@ -174,4 +174,5 @@ def check(
     kitchen: list[_Obj] | None = None,
     rates: list[tuple[str, float]] | None = None,
     utensils: list[str] = ...,
+    rates_file: _Path | None = None,
 ) -> list[tuple[str | None, int, int, str, str, str]]: ...

@@ -196,12 +196,7 @@ fn str_list_field(field: &str, v: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
 
 /// Checks a spec the way the core checks the objects of kitchen and goal files.
 fn checked(spec: ObjectSpec) -> foon_core::Result<ObjectSpec> {
-    if spec.label.is_empty() {
-        return Err(foon_core::Error::Invalid(
-            "an object has an empty label".into(),
-        ));
-    }
-    Ok(spec)
+    ObjectSpec::new(spec.label, spec.states, spec.ingredients, spec.container)
 }
 
 /// An object from its four fields, each of the expected type (`TypeError` naming the field

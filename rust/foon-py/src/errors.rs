@@ -63,7 +63,7 @@ impl From<PyFoonErr> for PyErr {
                 let _ = v.setattr("kind", kind.as_str());
                 err
             }),
-            E::GoalNotFound { .. } => GoalNotFoundError::new_err(msg),
+            E::GoalNotFound { .. } | E::GoalAmbiguous { .. } => GoalNotFoundError::new_err(msg),
             E::MissingRate { motion } => Python::attach(|py| {
                 let err = MissingRateError::new_err(msg);
                 let _ = err.value(py).setattr("motion", motion);

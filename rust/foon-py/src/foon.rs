@@ -12,17 +12,16 @@ use crate::convert::{
     ObjTuple, fu_index, location, object_index, opt_path_arg, path_arg, spec_of, specs_of,
     text_bytes, tuple_of,
 };
-use crate::errors::{Cancel, GoalNotFoundError, PyFoonErr, enter};
+use crate::errors::{Cancel, PyFoonErr, enter};
 use crate::serial;
 
-/// Reads a FOON file. `cancel` is the hook for a loader that polls it; the core's loader
-/// reads the whole file in one go.
+/// Reads a FOON file; the core's loader asks `cancel` now and then and stops on Ctrl-C.
 fn load_foon(
     path: &std::path::Path,
     opts: ParseOptions,
-    _cancel: Cancel<'_>,
+    cancel: Cancel<'_>,
 ) -> foon_core::Result<foon_core::Foon> {
-    foon_core::load_foon(path, opts)
+    foon_core::parse::load_foon_cancellable(path, opts, cancel)
 }
 
 /// Parses FOON text (see [`load_foon`] for `cancel`).
@@ -30,9 +29,9 @@ fn parse_foon(
     data: &[u8],
     path: Option<&std::path::Path>,
     opts: ParseOptions,
-    _cancel: Cancel<'_>,
+    cancel: Cancel<'_>,
 ) -> foon_core::Result<foon_core::Foon> {
-    foon_core::parse_foon(data, path, opts)
+    foon_core::parse::parse_foon_cancellable(data, path, opts, cancel)
 }
 
 /// A parsed FOON (immutable; safe to share between threads).
@@ -258,42 +257,26 @@ impl PyFoon {
     /// (label, states, ingredients, container); `GoalNotFoundError` otherwise.
     fn goal_id(&self, goal: &Bound<'_, PyAny>) -> PyResult<u32> {
         let foon = &self.inner;
-        let not_found = |goal: String| PyFoonErr(foon_core::Error::GoalNotFound { goal });
-        if let Ok(label) = goal.cast::<PyString>() {
-            let label = label.to_str()?;
-            let ids = foon.objects_with_label(label);
-            return match ids.as_slice() {
-                [one] => Ok(*one),
-                [] => Err(not_found(label.to_owned()).into()),
-                many => {
-                    const SHOWN: usize = 20;
-                    let mut shown: Vec<String> = many
-                        .iter()
-                        .take(SHOWN)
-                        .map(|&o| write::object_line(foon, o))
-                        .collect();
-                    if many.len() > SHOWN {
-                        shown.push(format!("and {} more", many.len() - SHOWN));
-                    }
-                    Err(GoalNotFoundError::new_err(format!(
-                        "the label '{label}' matches {} objects; give states and container to \
-                         choose one: {}",
-                        many.len(),
-                        shown.join("; ")
-                    )))
-                }
-            };
-        }
-        if let Ok(t) = goal.cast::<PyTuple>() {
-            let spec = spec_of(t.extract::<ObjTuple>()?);
-            return spec
-                .find_in(foon)
-                .ok_or_else(|| not_found(spec.describe()).into());
-        }
-        match goal.extract::<i64>() {
-            Ok(i) if i >= 0 && (i as u64) < foon.object_count() as u64 => Ok(i as u32),
-            _ => Err(not_found(format!("object id {goal}")).into()),
-        }
+        let found = if let Ok(label) = goal.cast::<PyString>() {
+            foon.goal_by_label(label.to_str()?)
+        } else if let Ok(t) = goal.cast::<PyTuple>() {
+            foon.goal_by_spec(&spec_of(t.extract::<ObjTuple>()?))
+        } else {
+            match goal.extract::<i64>() {
+                Ok(i) => u32::try_from(i).map_or_else(
+                    |_| {
+                        Err(foon_core::Error::GoalNotFound {
+                            goal: format!("object id {i}"),
+                        })
+                    },
+                    |i| foon.goal_by_id(i),
+                ),
+                Err(_) => Err(foon_core::Error::GoalNotFound {
+                    goal: format!("object id {goal}"),
+                }),
+            }
+        };
+        Ok(found.map_err(PyFoonErr)?)
     }
 
     fn objects_with_label(&self, label: &str) -> Vec<u32> {

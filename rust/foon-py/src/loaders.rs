@@ -121,30 +121,40 @@ type FindingTuple = (Option<String>, u64, u32, &'static str, &'static str, Strin
 
 /// Checks FOON files: every error, warning and note of each, in line order.
 #[pyfunction]
-#[pyo3(signature = (paths, kitchen = None, rates = None, utensils = Vec::new()))]
+/// `rates_file` is a rate table read by the linter itself, so that its own problems (a bad
+/// line, a motion with two rates) are findings too; `rates` are pairs given directly.
+#[pyo3(signature = (paths, kitchen = None, rates = None, utensils = Vec::new(), rates_file = None))]
 pub(crate) fn check(
     py: Python<'_>,
     paths: Vec<Bound<'_, PyAny>>,
     kitchen: Option<Vec<ObjTuple>>,
     rates: Option<Vec<(String, f64)>>,
     utensils: Vec<String>,
+    rates_file: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Vec<FindingTuple>> {
     let paths = paths
         .iter()
         .map(|p| path_arg("paths", p))
         .collect::<PyResult<Vec<_>>>()?;
+    let rates_file = opt_path_arg("rates_file", rates_file)?;
     let kitchen = kitchen.map(specs_of);
     let rates = rates
         .map(MotionRates::from_pairs)
         .transpose()
         .map_err(PyFoonErr)?;
     let findings = enter(py, |_| {
+        let mut all = Vec::new();
+        let mut rates = rates;
+        if let Some(p) = &rates_file {
+            let (table, found) = foon_core::lint::lint_rates(p)?;
+            all.extend(found);
+            rates = Some(table);
+        }
         let opts = foon_core::lint::LintOptions {
             kitchen: kitchen.as_deref(),
             rates: rates.as_ref(),
             utensils: &utensils,
         };
-        let mut all = Vec::new();
         for p in &paths {
             all.extend(foon_core::lint::lint_file(p, &opts)?);
         }

@@ -11,13 +11,16 @@ use foon_core::{Foon, Location, NONE, Warning, WarningKind};
 const MAGIC: &[u8] = b"FOON-INDEX\x01";
 
 /// Every warning kind, by its code in the serialised form (the index in this list).
-const KINDS: [WarningKind; 6] = [
+const KINDS: [WarningKind; 9] = [
     WarningKind::NoMotion,
     WarningKind::TwoMotions,
     WarningKind::Unterminated,
     WarningKind::SpacedIngredient,
     WarningKind::DuplicateIngredient,
     WarningKind::EmptyContainer,
+    WarningKind::TwoContainers,
+    WarningKind::TwoIngredientLists,
+    WarningKind::EmptyIngredient,
 ];
 
 fn kind_code(k: WarningKind) -> u8 {
@@ -29,6 +32,9 @@ fn kind_code(k: WarningKind) -> u8 {
         WarningKind::SpacedIngredient => 3,
         WarningKind::DuplicateIngredient => 4,
         WarningKind::EmptyContainer => 5,
+        WarningKind::TwoContainers => 6,
+        WarningKind::TwoIngredientLists => 7,
+        WarningKind::EmptyIngredient => 8,
     }
 }
 

@@ -208,11 +208,7 @@ impl Prepared {
         default_rate: Option<f64>,
     ) -> Result<Self> {
         if let Some(r) = default_rate {
-            if !(0.0..=1.0).contains(&r) {
-                return Err(Error::Invalid(format!(
-                    "default rate must be between 0 and 1, not {r}"
-                )));
-            }
+            crate::check_rate(None, r)?;
         }
         let n = foon.object_count();
         let mut in_kitchen = vec![false; n];
@@ -386,9 +382,7 @@ impl<'a> Context<'a> {
 
     /// The goal object for a spec, or the course's error.
     pub fn goal(&self, spec: &ObjectSpec) -> Result<u32> {
-        spec.find_in(self.foon).ok_or_else(|| Error::GoalNotFound {
-            goal: spec.describe(),
-        })
+        self.foon.goal_by_spec(spec)
     }
 
     /// Plans one goal.
