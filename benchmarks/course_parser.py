@@ -16,9 +16,12 @@ class Obj:
         self.id = -1
 
     def same(self, other: Obj) -> bool:
-        return (self.label == other.label and sorted(self.states) == sorted(other.states)
-                and sorted(self.ingredients) == sorted(other.ingredients)
-                and self.container == other.container)
+        return (
+            self.label == other.label
+            and sorted(self.states) == sorted(other.states)
+            and sorted(self.ingredients) == sorted(other.ingredients)
+            and self.container == other.container
+        )
 
     def index_in(self, objs: list[Obj]) -> int:
         for i, o in enumerate(objs):
@@ -37,11 +40,15 @@ class Unit:
 
     def repeats(self, units: list[Unit]) -> bool:
         for u in units:
-            if (u.motion != self.motion or len(u.inputs) != len(self.inputs)
-                    or len(u.outputs) != len(self.outputs)):
+            if (
+                u.motion != self.motion
+                or len(u.inputs) != len(self.inputs)
+                or len(u.outputs) != len(self.outputs)
+            ):
                 continue
             if all(o.index_in(u.inputs) != -1 for o in self.inputs) and all(
-                    o.index_in(u.outputs) != -1 for o in self.outputs):
+                o.index_in(u.outputs) != -1 for o in self.outputs
+            ):
                 return True
         return False
 

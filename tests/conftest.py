@@ -12,9 +12,8 @@ import json
 import os
 from pathlib import Path
 
-import pytest
-
 import foon
+import pytest
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"
 DATA = SHARED / "data" / "foon"
@@ -38,7 +37,9 @@ class Course:
         self.kitchen = foon.Kitchen.load(DATA / "kitchen.json")
         self.motions = foon.MotionRates.load(DATA / "motion.txt")
         self.utensils = foon.load_utensils(DATA / "utensils.txt")
-        self.goals5 = [foon.Object.from_dict(d) for d in json.loads((DATA / "goal_nodes.json").read_text())]
+        self.goals5 = [
+            foon.Object.from_dict(d) for d in json.loads((DATA / "goal_nodes.json").read_text())
+        ]
         self.goals25 = [
             foon.Object.from_dict(d) for d in json.loads((DATA / "goal_nodes_25.json").read_text())
         ]

@@ -208,8 +208,7 @@ def parse(text: str, strict: bool = False) -> RefFoon:
     for line_index, raw_line in enumerate(lines):
         line_number = line_index + 1
         line = raw_line
-        if line.endswith("\r"):
-            line = line[:-1]
+        line = line.removesuffix("\r")
         if "\x00" in line:
             raise RefParseError(line_number, line.index("\x00") + 1, "NUL byte")
         if line.strip() == "":
@@ -547,9 +546,7 @@ def knuth(
     return cost, choice
 
 
-def _optimal_inputs_choices(
-    foon: RefFoon, base: set[int], utensils: set[str]
-) -> dict[int, int]:
+def _optimal_inputs_choices(foon: RefFoon, base: set[int], utensils: set[str]) -> dict[int, int]:
     """The choices of Knuth's algorithm with cost 1 on `base` and FUs of weight 0."""
     return knuth(foon, base, utensils, 1.0, lambda f: 0.0)[1]
 
@@ -611,8 +608,7 @@ def explain(
                 if o not in kitchen_ids:
                     missing.add(o)
                 continue
-            for x in needed_inputs(foon, choice[o], utensils):
-                stack.append(x)
+            stack.extend(needed_inputs(foon, choice[o], utensils))
         return (sorted(missing), [])
 
     walk: list[int] = []
@@ -733,8 +729,9 @@ def _course_plan(
     )
 
 
-def _emit_tree(foon: RefFoon, goal_id: int, k: set[int], choice: dict[int, int],
-               utensils: set[str]) -> list[int]:
+def _emit_tree(
+    foon: RefFoon, goal_id: int, k: set[int], choice: dict[int, int], utensils: set[str]
+) -> list[int]:
     """The closure of the choices from the goal, in depth-first post-order."""
     seen: set[int] = set()
     emitted: list[int] = []
@@ -764,7 +761,7 @@ def _ids_choices(
     exactly; the tree it returns is made of these choices, so the reference uses ranks directly.
     """
     choice: dict[int, int] = {}
-    for o in rank:
+    for o, r in rank.items():
         if o in k:
             continue
         for f in foon.producers(o):
@@ -772,7 +769,7 @@ def _ids_choices(
             if not all(x in rank for x in needed):
                 continue
             level = 1 + max((rank[x] for x in needed), default=0)
-            if level == rank[o]:
+            if level == r:
                 choice[o] = f
                 break
     return choice
@@ -802,7 +799,7 @@ def _greedy_choices(
                 continue
             failed = False
             for x in needed:
-                if not resolve(x, path + [o]):
+                if not resolve(x, [*path, o]):
                     failed = True
                     break
             if not failed:

@@ -5,22 +5,24 @@ from __future__ import annotations
 
 import warnings
 
-import pytest
-
 import foon
 import foon_reference as ref
+import pytest
 from conftest import DATA, need_shared
 
-NON_FOON = {"motion.txt", "motion_uniform_0.1.txt", "utensils.txt", "default_ingredients.txt",
-            "dish_type.txt"}
+NON_FOON = {
+    "motion.txt",
+    "motion_uniform_0.1.txt",
+    "utensils.txt",
+    "default_ingredients.txt",
+    "dish_type.txt",
+}
 
 
 def foon_files() -> list[str]:
     if not DATA.is_dir():
         return []
-    return sorted(
-        str(p.relative_to(DATA)) for p in DATA.rglob("*.txt") if p.name not in NON_FOON
-    )
+    return sorted(str(p.relative_to(DATA)) for p in DATA.rglob("*.txt") if p.name not in NON_FOON)
 
 
 def test_the_data_set_has_250_foon_files() -> None:
@@ -33,7 +35,11 @@ def test_course_foon_counts(course: object) -> None:
     f = foon.load(DATA / "FOON.txt")
     s = f.stats()
     assert (s["functional_units"], s["objects"], s["produced_objects"], s["motions"]) == (
-        2376, 4305, 3371, 129)
+        2376,
+        4305,
+        3371,
+        129,
+    )
     assert s["duplicates_dropped"] == 0
     assert f.warnings == []
 

@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Iterable
-from typing import Any, final
+from typing import Any, TypeAlias, final
 
 __all__ = [
     "Foon",
@@ -29,9 +29,9 @@ __all__ = [
 
 __version__: str
 
-_Obj = tuple[str, list[str], list[str], str | None]
-_Fields = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
-_Path = str | bytes | os.PathLike[str] | os.PathLike[bytes]
+_Obj: TypeAlias = tuple[str, list[str], list[str], str | None]
+_Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
+_Path: TypeAlias = str | bytes | os.PathLike[str] | os.PathLike[bytes]
 
 class FoonError(Exception): ...
 
@@ -169,6 +169,7 @@ def parse_utensils(text: str | bytes, path: _Path | None = None) -> list[str]: .
 def methods() -> list[str]: ...
 def max_threads() -> int:
     """The cap on worker threads: the available parallelism of this process."""
+
 def check(
     paths: list[_Path],
     kitchen: list[_Obj] | None = None,
