@@ -7,6 +7,7 @@ import csv
 import io
 import json
 import os
+import shutil
 import stat
 import subprocess
 import sys
@@ -632,3 +633,27 @@ def test_compare_with_no_method_left_is_an_error(capsys: Capture) -> None:
     assert code == 1 and out == ""
     assert err.splitlines()[0].startswith("foon: note: greedy-success skipped: ")
     assert err.splitlines()[1:] == ["foon: error: no method could run"]
+
+
+def test_the_foon_command_imports_only_the_command_line() -> None:
+    """The installed ``foon`` script is the package's own launcher: ``foon --version`` imports
+    ``foon``, ``foon.cli`` and nothing that Python itself does not (pip's generated launchers
+    import ``re`` first, which alone costs as much as starting Python)."""
+    script = shutil.which("foon", path=os.path.dirname(sys.executable))
+    if script is None:
+        if os.environ.get("FOON_REQUIRE_DATA"):
+            pytest.fail("the foon command is not installed beside this Python")
+        pytest.skip("the foon command is not installed beside this Python (maturin develop)")
+    env = {**os.environ, "PYTHONPROFILEIMPORTTIME": "1"}
+    p = subprocess.run([script, "--version"], capture_output=True, text=True, env=env,
+                       timeout=60, check=True)  # fmt: skip
+    assert p.stdout == f"foon {foon.__version__}\n"
+    imported = {line.rsplit("|", 1)[-1].strip() for line in p.stderr.splitlines()
+                if line.startswith("import time:")}  # fmt: skip
+    base = subprocess.run([sys.executable, "-c", "pass"], capture_output=True, text=True,
+                          env=env, timeout=60, check=True).stderr  # fmt: skip
+    python_own = {line.rsplit("|", 1)[-1].strip() for line in base.splitlines()
+                  if line.startswith("import time:")}  # fmt: skip
+    allowed = {"__future__", "foon", "foon._foon", "foon.cli"}
+    assert imported - python_own <= allowed, imported - python_own
+    assert "re" not in imported and "argparse" not in imported
