@@ -657,3 +657,34 @@ def test_the_foon_command_imports_only_the_command_line() -> None:
     allowed = {"__future__", "foon", "foon._foon", "foon.cli"}
     assert imported - python_own <= allowed, imported - python_own
     assert "re" not in imported and "argparse" not in imported
+
+
+def test_a_goal_whose_search_meets_an_unrated_motion_is_its_own_failure(
+    tmp_path: Path, capsys: Capture
+) -> None:
+    """A motion without a rate stops only the goals whose search meets it: the others are
+    planned and the output stays whole (one parseable JSON list, an entry per goal)."""
+    fp = tmp_path / "f.txt"
+    fp.write_text(
+        "O\ta\nS\traw\nM\tcut\nO\ta\nS\tcut\n//\nO\tb\nS\traw\nM\tboil\nO\tb\nS\thot\n//\n"
+    )
+    kitchen = tmp_path / "k.json"
+    kitchen.write_text(
+        json.dumps([{"label": "a", "states": ["raw"]}, {"label": "b", "states": ["raw"]}])
+    )
+    rates = tmp_path / "m.txt"
+    rates.write_text("cut\t0.5\n")
+    goals = tmp_path / "g.json"
+    goals.write_text(
+        json.dumps([{"label": "b", "states": ["hot"]}, {"label": "a", "states": ["cut"]}])
+    )
+    base = ["plan", "--foon", str(fp), "--kitchen", str(kitchen), "--motions", str(rates),
+            "--goals", str(goals), "--method", "greedy-success"]  # fmt: skip
+    code, out, err = run([*base, "--format", "json"], capsys)
+    assert code == 1
+    items = json.loads(out)
+    assert [i["solved"] for i in items] == [False, True]
+    assert "boil" in items[0]["error"] and items[1]["units"] == [0]
+    assert "b (hot): FAILED:" in err and "boil" in err
+    code, out, err = run(base, capsys)
+    assert code == 1 and out.count("# goal:") == 2 and "M\tcut" in out

@@ -102,7 +102,9 @@ def inputs(
 
 
 class NotFound:
-    """A goal that is not an object of the FOON (or a label several objects have)."""
+    """A goal that could not be planned on its own: not an object of the FOON, a label
+    several objects have, or a motion without a rate that its search met. It gets its own
+    ``FAILED`` line (and JSON entry); the other goals go on."""
 
     __slots__ = ("goal", "message")
 
@@ -139,12 +141,32 @@ def plan_chunks(
     for start in range(0, len(goals), CHUNK):
         chunk = resolve(f, [as_goal(g) for g in goals[start : start + CHUNK]])
         ids = [r for r in chunk if isinstance(r, int)]
-        trees = iter(
-            planner.plan_many(ids, method, compat=compat, count=count, threads=threads)
-            if ids
-            else []
-        )
+        try:
+            planned: list[foon.TaskTree | NotFound] = list(
+                planner.plan_many(ids, method, compat=compat, count=count, threads=threads)
+                if ids
+                else []
+            )
+        except foon.MissingRateError:
+            # Only some goals meet the motion: plan this chunk goal by goal, so that each of
+            # them gets its own result and the output stays whole.
+            planned = [_plan_one(f, planner, g, method, compat, count) for g in ids]
+        trees = iter(planned)
         yield [next(trees) if isinstance(r, int) else r for r in chunk]
+
+
+def _plan_one(
+    f: foon.Foon,
+    planner: foon.Planner,
+    goal: int,
+    method: str,
+    compat: Literal["course"] | None,
+    count: Literal["nodes", "ingredients"],
+) -> foon.TaskTree | NotFound:
+    try:
+        return planner.plan(goal, method, compat=compat, count=count)
+    except foon.MissingRateError as e:
+        return NotFound(f.object(goal), one_line(str(e)))
 
 
 def summary(t: foon.TaskTree | NotFound) -> str:
