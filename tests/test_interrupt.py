@@ -121,3 +121,45 @@ def test_the_signal_handlers_exception_ends_a_python_call(tmp_path: Path, thread
     assert out.startswith("Stop") and "stopped by the handler" in out, out + err
     assert "Traceback" not in err
     assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
+
+
+LOAD_SCRIPT = """
+import signal, sys, time
+import foon
+
+start = time.monotonic()
+foon.load(sys.argv[1])
+full = time.monotonic() - start
+print("ready", full, flush=True)
+try:
+    foon.load(sys.argv[1])
+except KeyboardInterrupt:
+    print("interrupted", time.monotonic(), flush=True)
+else:
+    print("loaded", time.monotonic(), flush=True)
+"""
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_ctrl_c_stops_a_long_load(tmp_path: Path) -> None:
+    """The loader asks for interruption as it goes: Ctrl-C early in a load stops it long
+    before the load would have ended (measured against a full load of the same file in the
+    same process, so the bound holds on a slow machine too)."""
+    f = tmp_path / "big.foon"
+    with f.open("w") as fh:
+        for i in range(1_000_000):
+            fh.write(f"O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{i + 1}\n//\n")
+    p = subprocess.Popen(
+        [sys.executable, "-c", LOAD_SCRIPT, str(f)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    assert p.stdout is not None
+    word, full = p.stdout.readline().split()
+    assert word == "ready"
+    time.sleep(min(0.1 * float(full), 0.5))
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    word, when = out.split()
+    assert word == "interrupted", out + err
+    assert float(when) - sent < 0.5 * float(full), (float(when) - sent, full)
