@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use foon_core::InputKind;
-use foon_core::companion::{load_objects, load_rates, load_utensils};
+use foon_core::parse::{load_objects, load_rates, load_utensils};
 use foon_core::search::batch::{BatchOptions, plan_batch};
 use foon_core::search::{Context, Count, Prepared, Query};
 

@@ -2,7 +2,6 @@
 //! Object-Oriented Networks). Pure Rust, no Python.
 #![forbid(unsafe_code)]
 
-pub mod companion;
 pub mod error;
 pub mod index;
 pub mod lint;
@@ -12,10 +11,9 @@ pub mod search;
 pub mod verify;
 pub mod write;
 
-pub use companion::MotionRates;
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
 pub use index::{Foon, NONE, Stats};
-pub use model::{ObjectSpec, check_rate};
+pub use model::{MotionRates, ObjectSpec, check_rate};
 pub use parse::{
     ParseOptions, load_foon, load_foon_cancellable, parse_foon, parse_foon_cancellable,
 };

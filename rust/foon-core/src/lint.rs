@@ -4,10 +4,12 @@
 
 use std::path::Path;
 
-use crate::companion::{MotionRates, ObjectSpec, parse_objects_noting, parse_rates_recovering};
 use crate::error::{Error, InputKind, Location, Warning, WarningKind};
 use crate::index::Foon;
-use crate::parse::{ParseOptions, parse_foon_recovering};
+use crate::model::{MotionRates, ObjectSpec};
+use crate::parse::{
+    ParseOptions, parse_foon_recovering, parse_objects_noting, parse_rates_recovering, read_file,
+};
 use crate::search::Context;
 
 /// How serious a finding is.
@@ -202,7 +204,7 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
 
 /// Reads and checks a file.
 pub fn lint_file(path: &Path, opts: &LintOptions<'_>) -> crate::Result<Vec<Finding>> {
-    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let data = read_file(path)?;
     Ok(lint(&data, Some(path), opts))
 }
 
@@ -226,6 +228,6 @@ pub fn lint_rates_data(data: &[u8], path: Option<&Path>) -> (MotionRates, Vec<Fi
 
 /// Reads and checks a motion table (see [`lint_rates_data`]).
 pub fn lint_rates(path: &Path) -> crate::Result<(MotionRates, Vec<Finding>)> {
-    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let data = read_file(path)?;
     Ok(lint_rates_data(&data, Some(path)))
 }

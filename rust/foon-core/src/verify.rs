@@ -1,9 +1,9 @@
 //! Checking a task-tree file: are its units executable in the order written, from the
 //! kitchen, and do they make the goal? Are they units of the FOON at all?
 
-use crate::companion::ObjectSpec;
 use crate::error::Result;
 use crate::index::Foon;
+use crate::model::ObjectSpec;
 use crate::search::Context;
 
 /// The first unit of a tree that cannot run in the order written.

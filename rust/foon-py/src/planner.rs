@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use foon_core::companion::MotionRates;
+use foon_core::MotionRates;
 use foon_core::search::batch::{self, BatchOptions};
 use foon_core::search::{Context, Prepared, Query};
 use pyo3::prelude::*;

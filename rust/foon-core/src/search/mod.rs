@@ -18,9 +18,9 @@ use std::time::Instant;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use crate::companion::{MotionRates, ObjectSpec};
 use crate::error::{Error, Result};
 use crate::index::{Csr, Foon, NONE};
+use crate::model::{MotionRates, ObjectSpec};
 
 pub use forward::Ranks;
 
