@@ -3,10 +3,13 @@
 #![forbid(unsafe_code)]
 
 pub mod error;
+pub mod evaluate;
+mod forward;
 pub mod index;
 pub mod lint;
 pub mod model;
 pub mod parse;
+pub mod prepare;
 pub mod search;
 pub mod verify;
 pub mod write;
@@ -17,4 +20,5 @@ pub use model::{MotionRates, ObjectSpec, check_rate};
 pub use parse::{
     ParseOptions, load_foon, load_foon_cancellable, parse_foon, parse_foon_cancellable,
 };
-pub use search::{Compat, Context, Count, Explanation, Method, Plan, Prepared, Query};
+pub use prepare::{Prepared, Ranks};
+pub use search::{Compat, Context, Count, Explanation, Method, Plan, Query};

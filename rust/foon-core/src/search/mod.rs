@@ -4,7 +4,6 @@
 
 pub mod batch;
 mod course;
-mod forward;
 mod greedy;
 mod heuristic;
 mod ids;
@@ -13,16 +12,13 @@ mod scratch;
 mod tree;
 
 use std::str::FromStr;
-use std::sync::OnceLock;
 use std::time::Instant;
 
-use rustc_hash::{FxHashMap, FxHashSet};
-
 use crate::error::{Error, Result};
-use crate::index::{Csr, Foon, NONE};
+use crate::evaluate::{self, TreeMetrics};
+use crate::index::Foon;
 use crate::model::{MotionRates, ObjectSpec};
-
-pub use forward::Ranks;
+use crate::prepare::{Prepared, Ranks};
 
 /// A planning method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -180,80 +176,6 @@ pub struct Plan {
     pub seconds: f64,
 }
 
-/// Planning inputs prepared for one FOON: the kitchen matched to objects, the container rule
-/// applied (needed inputs), the motion rate of every FU. It owns its data, so it can be kept
-/// and reused for any number of plans ([`Context::with`]); it is `Send + Sync`.
-pub struct Prepared {
-    objects: usize,
-    fus: usize,
-    in_kitchen: Vec<bool>,
-    kitchen_objects: Vec<u32>,
-    /// Needed inputs of each FU (container rule applied), in input order.
-    needed: Csr,
-    /// For each object, the FUs where it is a needed input (one entry per slot).
-    needed_by: Csr,
-    fu_rate: Vec<f64>,
-    rates_given: bool,
-    ranks: OnceLock<Ranks>,
-}
-
-impl Prepared {
-    /// Prepares `kitchen`, `utensils` and `rates` for `foon`. `rates` may be `None`;
-    /// `default_rate` fills motions missing from it.
-    pub fn new(
-        foon: &Foon,
-        kitchen: &[ObjectSpec],
-        utensils: &[String],
-        rates: Option<&MotionRates>,
-        default_rate: Option<f64>,
-    ) -> Result<Self> {
-        if let Some(r) = default_rate {
-            crate::check_rate(None, r)?;
-        }
-        let n = foon.object_count();
-        let mut in_kitchen = vec![false; n];
-        let mut kitchen_objects = Vec::new();
-        for item in kitchen {
-            if let Some(o) = item.find_in(foon) {
-                if !in_kitchen[o as usize] {
-                    in_kitchen[o as usize] = true;
-                    kitchen_objects.push(o);
-                }
-            }
-        }
-        kitchen_objects.sort_unstable();
-        let utensil_ids: FxHashSet<u32> = utensils
-            .iter()
-            .filter_map(|u| foon.strings().get(u))
-            .collect();
-        let needed = needed_inputs(foon, &utensil_ids);
-        let n_fu = foon.fu_count() as u32;
-        let needed_by = Csr::from_pairs(
-            n,
-            (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
-        );
-        let fu_rate = (0..n_fu)
-            .map(|f| {
-                rates
-                    .and_then(|r| r.get(foon.motion_text(f)))
-                    .or(default_rate)
-                    .unwrap_or(f64::NAN)
-            })
-            .collect();
-        Ok(Self {
-            objects: n,
-            fus: n_fu as usize,
-            in_kitchen,
-            kitchen_objects,
-            needed,
-            needed_by,
-            fu_rate,
-            rates_given: rates.is_some() || default_rate.is_some(),
-            ranks: OnceLock::new(),
-        })
-    }
-}
-
 enum Prep<'a> {
     Owned(Box<Prepared>),
     Borrowed(&'a Prepared),
@@ -272,14 +194,18 @@ pub struct Context<'a> {
 impl std::ops::Deref for Context<'_> {
     type Target = Prepared;
     fn deref(&self) -> &Prepared {
+        self.prep()
+    }
+}
+
+impl<'a> Context<'a> {
+    fn prep(&self) -> &Prepared {
         match &self.prep {
             Prep::Owned(p) => p,
             Prep::Borrowed(p) => p,
         }
     }
-}
 
-impl<'a> Context<'a> {
     /// Builds the context (see [`Prepared::new`]).
     pub fn new(
         foon: &'a Foon,
@@ -299,11 +225,7 @@ impl<'a> Context<'a> {
 
     /// A context over inputs prepared earlier for this same FOON.
     pub fn with(foon: &'a Foon, prep: &'a Prepared) -> Result<Self> {
-        if prep.objects != foon.object_count() || prep.fus != foon.fu_count() {
-            return Err(Error::Invalid(
-                "these planning inputs were prepared for another FOON".into(),
-            ));
-        }
+        prep.check_foon(foon)?;
         Ok(Self {
             foon,
             prep: Prep::Borrowed(prep),
@@ -335,42 +257,14 @@ impl<'a> Context<'a> {
         scratch::IdMap::new(len, default, self.scratch_limit)
     }
 
-    #[inline]
-    pub fn in_kitchen(&self, o: u32) -> bool {
-        self.in_kitchen[o as usize]
-    }
-
-    /// Kitchen objects of the FOON, in id order.
-    pub fn kitchen_objects(&self) -> &[u32] {
-        &self.kitchen_objects
-    }
-
-    /// Needed inputs of `fu` (after the container rule).
-    #[inline]
-    pub fn needed(&self, fu: u32) -> &[u32] {
-        self.needed.row(fu)
-    }
-
     /// Success rate of `fu`'s motion, or the error naming the motion.
     pub fn rate(&self, fu: u32) -> Result<f64> {
-        let r = self.fu_rate[fu as usize];
-        if r.is_nan() {
-            Err(Error::MissingRate {
-                motion: self.foon.motion_text(fu).to_owned(),
-            })
-        } else {
-            Ok(r)
-        }
-    }
-
-    /// Ranks from the kitchen plus the objects marked in `extra`.
-    pub fn ranks_with(&self, extra: &[bool]) -> Ranks {
-        forward::ranks(self, Some(extra))
+        self.prep().rate(self.foon, fu)
     }
 
     /// Ranks and derivability from the kitchen (computed once, on first use).
     pub fn ranks(&self) -> &Ranks {
-        self.ranks.get_or_init(|| forward::ranks(self, None))
+        self.prep().ranks(self.foon)
     }
 
     fn check_stop(&self) -> Result<()> {
@@ -463,236 +357,35 @@ impl<'a> Context<'a> {
         }
     }
 
-    fn fill_metrics(&self, plan: &mut Plan) {
-        let m = self.metrics(&plan.units, plan.goal);
-        plan.height = m.height;
-        plan.success = m.success;
-        plan.unrated = m.unrated;
-        plan.leaf_inputs = m.leaf_inputs;
-    }
-
     /// Height, success and leaf count of a set of FUs for `goal`.
     pub fn metrics(&self, units: &[u32], goal: u32) -> TreeMetrics {
-        let height = if self.in_kitchen(goal) {
-            Some(0)
-        } else {
-            forward::unit_ranks(self, units).made(goal)
-        };
-        let unrated = if self.rates_given {
-            units
-                .iter()
-                .copied()
-                .find(|&f| self.fu_rate.get(f as usize).is_none_or(|r| r.is_nan()))
-        } else {
-            None
-        };
-        let success = if self.rates_given && unrated.is_none() {
-            Some(
-                units
-                    .iter()
-                    .fold(1.0, |acc, &f| acc * self.fu_rate[f as usize]),
-            )
-        } else {
-            None
-        };
-        let mut seen = FxHashSet::default();
-        for &f in units {
-            for &x in self.needed(f) {
-                if self.in_kitchen(x) {
-                    seen.insert(x);
-                }
-            }
-        }
-        TreeMetrics {
-            height,
-            success,
-            unrated,
-            leaf_inputs: seen.len(),
-        }
+        evaluate::metrics(self.foon, self, units, goal)
     }
 
     /// Whether the FUs `units` can be ordered so that every one of them runs (its needed
     /// inputs in the kitchen or made by an earlier one) and the goal is in the kitchen or made.
     pub fn is_valid(&self, units: &[u32], goal: u32) -> bool {
-        let r = forward::unit_ranks(self, units);
-        let made = |x: u32| self.in_kitchen(x) || r.made(x).is_some();
-        let all_run = units.iter().all(|&f| {
-            (f as usize) < self.foon.fu_count() && self.needed(f).iter().all(|&x| made(x))
-        });
-        all_run && made(goal)
+        evaluate::is_valid(self.foon, self, units, goal)
     }
 
     /// Checks `units` in the given order: returns the position of the first FU with a needed
     /// input that is neither in the kitchen nor made by an earlier FU, with those inputs.
     pub fn first_unavailable(&self, units: &[u32]) -> Option<(usize, Vec<u32>)> {
-        self.run_in_order(units).0
+        evaluate::first_unavailable(self.foon, self, units)
     }
 
     /// Runs `units` in the given order from the kitchen: a unit runs when its needed inputs
     /// are available, and then makes its (produced) outputs available. Returns the first unit
     /// that could not run (position, missing inputs) and what is available at the end.
     pub fn run_in_order(&self, units: &[u32]) -> (Option<(usize, Vec<u32>)>, Vec<bool>) {
-        let mut avail = self.in_kitchen.clone();
-        let mut first = None;
-        for (i, &f) in units.iter().enumerate() {
-            let missing: Vec<u32> = self
-                .needed(f)
-                .iter()
-                .copied()
-                .filter(|&x| !avail[x as usize])
-                .collect();
-            if !missing.is_empty() {
-                first.get_or_insert((i, missing));
-                continue;
-            }
-            for &y in self.foon.outputs(f) {
-                if !self.foon.is_bare(y) {
-                    avail[y as usize] = true;
-                }
-            }
-        }
-        (first, avail)
-    }
-}
-
-/// Metrics of a tree.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TreeMetrics {
-    pub height: Option<u32>,
-    /// `None` without a rate table or when a unit's motion has no rate (`unrated`).
-    pub success: Option<f64>,
-    /// With a rate table: the first unit whose motion has no rate.
-    pub unrated: Option<u32>,
-    pub leaf_inputs: usize,
-}
-
-/// Needed inputs of every FU: the container rule removes an input whose label is a utensil
-/// and whose ingredients are exactly `[x]` when another input of the FU is labelled `x` and
-/// sits in that utensil. Linear in the inputs: the (label, container) pairs of an FU's inputs
-/// are counted once, and an input's own pair is not "another input".
-fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
-    let mut out = Csr::new();
-    let mut row = Vec::new();
-    let mut held: FxHashMap<(u32, u32), u32> = FxHashMap::default();
-    for f in 0..foon.fu_count() as u32 {
-        let ins = foon.inputs(f);
-        row.clear();
-        // Only an input that holds one ingredient in a utensil can be skipped.
-        let holder = |o: u32| foon.ingredients(o).len() == 1 && utensils.contains(&foon.label(o));
-        if !ins.iter().any(|&o| holder(o)) {
-            out.push_row(ins);
-            continue;
-        }
-        held.clear();
-        for &p in ins {
-            let c = foon.container(p);
-            if c != NONE {
-                *held.entry((foon.label(p), c)).or_default() += 1;
-            }
-        }
-        for &o in ins {
-            let skip = holder(o) && {
-                let pair = (foon.ingredients(o)[0], foon.label(o));
-                let own = u32::from((foon.label(o), foon.container(o)) == pair);
-                held.get(&pair).copied().unwrap_or(0) > own
-            };
-            if !skip {
-                row.push(o);
-            }
-        }
-        out.push_row(&row);
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use std::fmt::Write as _;
-
-    use rustc_hash::FxHashSet;
-
-    use super::needed_inputs;
-    use crate::index::Foon;
-    use crate::parse::{ParseOptions, parse_foon};
-
-    /// The container rule as written in `docs/METHODS.md`: for each input, look at every other
-    /// position of the FU's input list.
-    fn quadratic(foon: &Foon, utensils: &FxHashSet<u32>, f: u32) -> Vec<u32> {
-        let ins = foon.inputs(f);
-        let mut row = Vec::new();
-        for (i, &o) in ins.iter().enumerate() {
-            let ing = foon.ingredients(o);
-            let skip = ing.len() == 1
-                && utensils.contains(&foon.label(o))
-                && ins.iter().enumerate().any(|(j, &p)| {
-                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
-                });
-            if !skip {
-                row.push(o);
-            }
-        }
-        row
+        evaluate::run_in_order(self.foon, self, units)
     }
 
-    /// The linear container rule gives the quadratic definition's needed inputs on random
-    /// FUs: utensils holding one or two ingredients, inputs in the right or another container,
-    /// a utensil that holds itself and sits in itself, the same input several times.
-    #[test]
-    fn linear_container_rule_matches_the_definition() {
-        const LABELS: [&str; 5] = ["bowl", "pot", "egg", "salt", "bowl2"];
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = |n: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % n) as usize
-        };
-        let mut skipped = 0;
-        for round in 0..300 {
-            let mut text = String::new();
-            for _ in 0..=next(6) {
-                let mut objs: Vec<String> = Vec::new();
-                for _ in 0..next(12) {
-                    let mut o = format!("O\t{}\n", LABELS[next(5)]);
-                    match next(4) {
-                        0 => {}
-                        1 => {
-                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
-                        }
-                        2 => {
-                            let (a, b) = (LABELS[next(5)], LABELS[next(5)]);
-                            let _ = writeln!(o, "S\tcontains\t{{{a},{b}}}");
-                        }
-                        _ => {
-                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
-                            let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
-                        }
-                    }
-                    if next(2) == 0 {
-                        let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
-                    }
-                    if next(3) == 0 && !objs.is_empty() {
-                        o = objs[next(objs.len() as u64)].clone(); // a duplicate input
-                    }
-                    objs.push(o);
-                }
-                for o in &objs {
-                    text.push_str(o);
-                }
-                text.push_str("M\tmix\nO\tdone\nS\tx\n//\n");
-            }
-            let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
-            let utensils: FxHashSet<u32> = ["bowl", "pot", "bowl2"]
-                .iter()
-                .take(1 + round % 3)
-                .filter_map(|u| foon.strings().get(u))
-                .collect();
-            let linear = needed_inputs(&foon, &utensils);
-            for f in 0..foon.fu_count() as u32 {
-                assert_eq!(linear.row(f), quadratic(&foon, &utensils, f), "{text}");
-                skipped += foon.inputs(f).len() - linear.row(f).len();
-            }
-        }
-        assert!(skipped > 100, "the rule skipped only {skipped} inputs");
+    fn fill_metrics(&self, plan: &mut Plan) {
+        let m = self.metrics(&plan.units, plan.goal);
+        plan.height = m.height;
+        plan.success = m.success;
+        plan.unrated = m.unrated;
+        plan.leaf_inputs = m.leaf_inputs;
     }
 }

@@ -162,7 +162,7 @@ pub(super) fn knuth(
         if o == goal {
             break;
         }
-        for &f in ctx.needed_by.row(o) {
+        for &f in ctx.needed_by(o) {
             if !sub.has_fu.get(f) {
                 continue;
             }
