@@ -1,26 +1,15 @@
 //! The FOON text parser: the four dialects of real files (course `O`, lab `O<id>` with flags
 //! and CRLF, motion times), streaming over the bytes line by line into a [`Builder`].
 
-use std::borrow::Cow;
 use std::path::Path;
 
 use super::ParseOptions;
 use super::lines::{
-    Annotation, LineKind, Lines, annotation, classify, empty_ingredient_fault,
+    Annotation, LineKind, Lines, annotation, classify, empty_ingredient_fault, normalise,
     second_container_fault, second_list_fault,
 };
 use crate::error::{Error, InputKind, Location, Result, Warning, WarningKind};
 use crate::index::{Builder, Foon, NONE, RawObject};
-
-/// Lower-case and right-strip, as the course does with the second field of every line.
-fn normalise(s: &str) -> Cow<'_, str> {
-    let t = s.trim_end();
-    if t.bytes().any(|b| b.is_ascii_uppercase() || b >= 0x80) {
-        Cow::Owned(t.to_lowercase())
-    } else {
-        Cow::Borrowed(t)
-    }
-}
 
 /// What the second field of a line of this kind is, for messages.
 fn field_name(kind: LineKind) -> &'static str {

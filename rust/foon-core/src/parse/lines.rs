@@ -3,6 +3,7 @@
 //! ([`classify`]), and the one grammar of an `S` line's third field ([`annotation`]) with the
 //! faults it reports.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use crate::error::{Error, InputKind, Result};
@@ -118,6 +119,17 @@ impl<'a> Iterator for Lines<'a> {
         };
         self.pos += end + 1;
         Some(self.line(&rest[..end]))
+    }
+}
+
+/// Lower-case and right-strip, as the course does with the second field of every line
+/// (FOON files and object blocks alike).
+pub(crate) fn normalise(s: &str) -> Cow<'_, str> {
+    let t = s.trim_end();
+    if t.bytes().any(|b| b.is_ascii_uppercase() || b >= 0x80) {
+        Cow::Owned(t.to_lowercase())
+    } else {
+        Cow::Borrowed(t)
     }
 }
 

@@ -6,7 +6,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::lines::{
-    Annotation, LineKind, Lines, annotation, classify, empty_ingredient_fault,
+    Annotation, LineKind, Lines, annotation, classify, empty_ingredient_fault, normalise,
     second_container_fault, second_list_fault, strip_bom,
 };
 use super::read_file;
@@ -126,7 +126,7 @@ fn parse_object_blocks(
                 "missing field (no TAB-separated field)".into(),
             ));
         };
-        let value = f1.trim_end().to_lowercase();
+        let value = normalise(f1).into_owned();
         if lk == LineKind::Object {
             if value.is_empty() {
                 return Err(err(
