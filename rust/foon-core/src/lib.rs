@@ -1,5 +1,12 @@
 //! `foon-core`: parsing, compact index and task-tree retrieval for FOON (Functional
 //! Object-Oriented Networks). Pure Rust, no Python.
+//!
+//! The modules follow the pipeline: [`model`] (objects given by their text, rate tables) →
+//! [`parse`] (every text input) → [`index`] (the immutable [`Foon`]) → [`prepare`] (a kitchen,
+//! utensils and rates made ready for one FOON: the container rule, derivability) → [`search`]
+//! (task trees for goals) → [`evaluate`] (a tree's metrics and validity, for search and
+//! verify) → [`write`](mod@write) (text back out). [`lint`] and [`verify`] check files with parse,
+//! prepare and evaluate, not with search; [`error`] is shared by all.
 #![forbid(unsafe_code)]
 
 pub mod error;
