@@ -6,9 +6,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use foon_core::InputKind;
-use foon_core::companion::{load_objects, load_rates, load_utensils};
+use foon_core::Prepared;
+use foon_core::parse::{load_objects, load_rates, load_utensils};
 use foon_core::search::batch::{BatchOptions, plan_batch};
-use foon_core::search::{Context, Count, Prepared, Query};
+use foon_core::search::{Context, Count, Query};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);

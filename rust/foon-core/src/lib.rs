@@ -1,22 +1,31 @@
 //! `foon-core`: parsing, compact index and task-tree retrieval for FOON (Functional
 //! Object-Oriented Networks). Pure Rust, no Python.
+//!
+//! The modules follow the pipeline: [`model`] (objects given by their text, rate tables) →
+//! [`parse`] (every text input) → [`index`] (the immutable [`Foon`]) → [`prepare`] (a kitchen,
+//! utensils and rates made ready for one FOON: the container rule, derivability) → [`search`]
+//! (task trees for goals) → [`evaluate`] (a tree's metrics and validity, for search and
+//! verify) → [`write`](mod@write) (text back out). [`lint`] and [`verify`] check files with parse,
+//! prepare and evaluate, not with search; [`error`] is shared by all.
 #![forbid(unsafe_code)]
 
-pub mod companion;
 pub mod error;
+pub mod evaluate;
+mod forward;
 pub mod index;
 pub mod lint;
 pub mod model;
 pub mod parse;
+pub mod prepare;
 pub mod search;
 pub mod verify;
 pub mod write;
 
-pub use companion::MotionRates;
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
 pub use index::{Foon, NONE, Stats};
-pub use model::{ObjectSpec, check_rate};
+pub use model::{MotionRates, ObjectSpec, check_rate};
 pub use parse::{
     ParseOptions, load_foon, load_foon_cancellable, parse_foon, parse_foon_cancellable,
 };
-pub use search::{Compat, Context, Count, Explanation, Method, Plan, Prepared, Query};
+pub use prepare::{Prepared, Ranks};
+pub use search::{Compat, Context, Count, Explanation, Method, Plan, Query};

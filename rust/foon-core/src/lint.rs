@@ -4,11 +4,13 @@
 
 use std::path::Path;
 
-use crate::companion::{MotionRates, ObjectSpec, parse_objects_noting, parse_rates_recovering};
 use crate::error::{Error, InputKind, Location, Warning, WarningKind};
 use crate::index::Foon;
-use crate::parse::{ParseOptions, parse_foon_recovering};
-use crate::search::Context;
+use crate::model::{MotionRates, ObjectSpec};
+use crate::parse::{
+    ParseOptions, parse_foon_recovering, parse_objects_noting, parse_rates_recovering, read_file,
+};
+use crate::prepare::Prepared;
 
 /// How serious a finding is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -131,7 +133,7 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
     let at_fu = |f: u32| Location::new(path, u64::from(foon.fu_line(f)), 1);
     let describe = |o: u32| crate::write::object_line(foon, o);
     let kitchen = opts.kitchen.unwrap_or(&[]);
-    let Ok(ctx) = Context::new(foon, kitchen, opts.utensils, None, None) else {
+    let Ok(prep) = Prepared::new(foon, kitchen, opts.utensils, None, None) else {
         return out;
     };
     let n = foon.object_count() as u32;
@@ -139,7 +141,7 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
         // Objects a unit needs that nobody produces and the kitchen lacks.
         let mut first_use = vec![u32::MAX; n as usize];
         for f in 0..foon.fu_count() as u32 {
-            for &x in ctx.needed(f) {
+            for &x in prep.needed(f) {
                 if first_use[x as usize] == u32::MAX {
                     first_use[x as usize] = f;
                 }
@@ -147,7 +149,7 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
         }
         for o in 0..n {
             let f = first_use[o as usize];
-            if f != u32::MAX && foon.producers(o).is_empty() && !ctx.in_kitchen(o) {
+            if f != u32::MAX && foon.producers(o).is_empty() && !prep.in_kitchen(o) {
                 out.push(Finding {
                     at: at_fu(f),
                     severity: Severity::Warning,
@@ -183,9 +185,9 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
     // kitchen this is not decidable (a starting item such as an empty bowl that some unit
     // also produces would look circular), so it needs one.
     let raw: Vec<bool> = (0..n).map(|o| foon.producers(o).is_empty()).collect();
-    let r = ctx.ranks_with(&raw);
+    let r = prep.ranks_with(foon, &raw);
     for o in 0..n {
-        if !raw[o as usize] && !ctx.in_kitchen(o) && !r.is_derivable(o) {
+        if !raw[o as usize] && !prep.in_kitchen(o) && !r.is_derivable(o) {
             out.push(Finding {
                 at: at_fu(foon.producers(o)[0]),
                 severity: Severity::Note,
@@ -202,7 +204,7 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
 
 /// Reads and checks a file.
 pub fn lint_file(path: &Path, opts: &LintOptions<'_>) -> crate::Result<Vec<Finding>> {
-    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let data = read_file(path)?;
     Ok(lint(&data, Some(path), opts))
 }
 
@@ -226,6 +228,6 @@ pub fn lint_rates_data(data: &[u8], path: Option<&Path>) -> (MotionRates, Vec<Fi
 
 /// Reads and checks a motion table (see [`lint_rates_data`]).
 pub fn lint_rates(path: &Path) -> crate::Result<(MotionRates, Vec<Finding>)> {
-    let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let data = read_file(path)?;
     Ok(lint_rates_data(&data, Some(path)))
 }

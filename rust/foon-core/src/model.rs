@@ -1,9 +1,10 @@
 //! The domain model: an object given by its text fields ([`ObjectSpec`]), the one definition
-//! of object identity, and the one range check of success rates.
+//! of object identity, motion success rates ([`MotionRates`]) and the one range check of a
+//! rate ([`check_rate`]).
 
 use std::hash::{Hash, Hasher};
 
-use serde::Deserialize;
+use rustc_hash::FxHashMap;
 
 use crate::error::{Error, Result};
 use crate::index::{Foon, NONE};
@@ -49,9 +50,8 @@ pub struct ObjectSpec {
     pub ingredients: Vec<String>,
     pub container: Option<String>,
 }
-
 /// Why a label is not valid, if it is not.
-fn label_fault(label: &str) -> Option<&'static str> {
+pub(crate) fn label_fault(label: &str) -> Option<&'static str> {
     label
         .trim()
         .is_empty()
@@ -59,7 +59,7 @@ fn label_fault(label: &str) -> Option<&'static str> {
 }
 
 /// Why a list of states is not valid, if it is not.
-fn states_fault(states: &[String]) -> Option<&'static str> {
+pub(crate) fn states_fault(states: &[String]) -> Option<&'static str> {
     states
         .iter()
         .any(|s| s.trim().is_empty())
@@ -156,70 +156,58 @@ impl Hash for ObjectSpec {
     }
 }
 
-/// The JSON form of an object: `{"label", "states", "ingredients", "container"}`. Every
-/// field but the label is optional, and `null` is the same as an absent field (no states, no
-/// ingredients, no container). Types are never coerced.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct JsonObject {
-    #[serde(deserialize_with = "checked_label")]
-    label: String,
-    #[serde(default, deserialize_with = "checked_states")]
-    states: Option<Vec<String>>,
-    #[serde(default)]
-    ingredients: Option<Vec<String>>,
-    #[serde(default)]
-    container: Option<String>,
+/// Motion success rates: `motion<TAB>rate` lines.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MotionRates {
+    /// In file order, each motion once.
+    pub entries: Vec<(String, f64)>,
+    /// Position of each motion in `entries`.
+    map: FxHashMap<String, usize>,
 }
 
-// The field checks run where each field is read, so that an error has the JSON parser's
-// location; they are the checks of `ObjectSpec::new`.
-fn checked_label<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<String, D::Error> {
-    let s = String::deserialize(d)?;
-    match label_fault(&s) {
-        Some(f) => Err(serde::de::Error::custom(f)),
-        None => Ok(s),
-    }
-}
-
-fn checked_states<'de, D: serde::Deserializer<'de>>(
-    d: D,
-) -> std::result::Result<Option<Vec<String>>, D::Error> {
-    let v = Option::<Vec<String>>::deserialize(d)?;
-    match v.as_deref().and_then(states_fault) {
-        Some(f) => Err(serde::de::Error::custom(f)),
-        None => Ok(v),
-    }
-}
-
-/// Reads a [`JsonObject`] from a JSON object only (serde's derived form would also take a
-/// list of the field values, `["ice", ["crushed"]]`, which is not a kitchen item).
-struct ObjectOnly;
-
-impl<'de> serde::de::Visitor<'de> for ObjectOnly {
-    type Value = JsonObject;
-
-    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("struct ObjectSpec")
+impl MotionRates {
+    /// Rates from `(motion, rate)` pairs. Every rate is checked ([`check_rate`]); the same
+    /// motion twice with the same rate is kept once, with two different rates it is an error.
+    pub fn from_pairs(pairs: impl IntoIterator<Item = (String, f64)>) -> Result<Self> {
+        let mut r = Self::default();
+        for (m, v) in pairs {
+            check_rate(Some(&m), v)?;
+            if let Err(old) = r.insert(m, v) {
+                let (m, first) = &r.entries[old];
+                return Err(Error::Invalid(format!(
+                    "motion '{m}' has two rates: {first} and {v}"
+                )));
+            }
+        }
+        Ok(r)
     }
 
-    fn visit_map<A: serde::de::MapAccess<'de>>(
-        self,
-        map: A,
-    ) -> std::result::Result<JsonObject, A::Error> {
-        JsonObject::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+    /// Adds a rate; a motion already given with another rate is left as it is and the
+    /// position of its entry is returned.
+    // The same number written twice is the same rate: exact equality is meant.
+    #[allow(clippy::float_cmp)]
+    pub(crate) fn insert(&mut self, m: String, v: f64) -> std::result::Result<(), usize> {
+        if let Some(&i) = self.map.get(&m) {
+            return if self.entries[i].1 == v {
+                Ok(())
+            } else {
+                Err(i)
+            };
+        }
+        self.map.insert(m.clone(), self.entries.len());
+        self.entries.push((m, v));
+        Ok(())
     }
-}
 
-impl<'de> Deserialize<'de> for ObjectSpec {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        let j = d.deserialize_map(ObjectOnly)?;
-        ObjectSpec::new(
-            j.label,
-            j.states.unwrap_or_default(),
-            j.ingredients.unwrap_or_default(),
-            j.container,
-        )
-        .map_err(serde::de::Error::custom)
+    pub fn get(&self, motion: &str) -> Option<f64> {
+        self.map.get(motion).map(|&i| self.entries[i].1)
+    }
+
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
     }
 }

@@ -1,10 +1,11 @@
 //! Checking a task-tree file: are its units executable in the order written, from the
 //! kitchen, and do they make the goal? Are they units of the FOON at all?
 
-use crate::companion::ObjectSpec;
 use crate::error::Result;
+use crate::evaluate::run_in_order;
 use crate::index::Foon;
-use crate::search::Context;
+use crate::model::ObjectSpec;
+use crate::prepare::Prepared;
 
 /// The first unit of a tree that cannot run in the order written.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,10 +45,10 @@ pub fn verify_tree(
     utensils: &[String],
     goal: &ObjectSpec,
 ) -> Result<TreeReport> {
-    let ctx = Context::new(tree, kitchen, utensils, None, None)?;
+    let prep = Prepared::new(tree, kitchen, utensils, None, None)?;
     let n = tree.fu_count() as u32;
     let units: Vec<u32> = (0..n).collect();
-    let (blocked, avail) = ctx.run_in_order(&units);
+    let (blocked, avail) = run_in_order(tree, &prep, &units);
     let first_blocked = blocked.map(|(position, missing)| Blocked {
         position,
         line: tree.fu_line(position as u32),

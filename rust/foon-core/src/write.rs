@@ -65,5 +65,5 @@ pub fn foon_text(foon: &Foon) -> String {
 
 /// One object, in its first written form, on one line: `label (s1, s2) {a,b} in [c]`.
 pub fn object_line(foon: &Foon, obj: u32) -> String {
-    crate::companion::ObjectSpec::of_object(foon, obj).describe()
+    crate::model::ObjectSpec::of_object(foon, obj).describe()
 }

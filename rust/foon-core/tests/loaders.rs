@@ -7,8 +7,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use foon_core::companion::{MotionRates, parse_objects, parse_rates, parse_utensils};
+use foon_core::MotionRates;
 use foon_core::lint::{LintOptions, Severity, lint, lint_rates, lint_rates_data};
+use foon_core::parse::{parse_objects, parse_rates, parse_utensils};
 use foon_core::verify::verify_tree;
 use foon_core::{
     Error, Foon, InputKind, ObjectSpec, ParseOptions, WarningKind, check_rate, parse_foon,

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use foon_core::companion::{load_objects, load_rates, load_utensils};
+use foon_core::parse::{load_objects, load_rates, load_utensils};
 use foon_core::{Error, InputKind, ParseOptions, WarningKind, load_foon};
 use serde::Deserialize;
 

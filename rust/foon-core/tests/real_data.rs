@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use foon_core::InputKind;
-use foon_core::companion::{load_objects, load_rates, load_utensils};
+use foon_core::parse::{load_objects, load_rates, load_utensils};
 use foon_core::search::{Compat, Context, Count, Method, Query};
 use foon_core::{ParseOptions, load_foon, write};
 

@@ -3,7 +3,7 @@
 //! returns `Ok` or a located `Err` without panicking. Fuzz crash inputs are kept as byte
 //! strings here (the fuzz corpus and artifacts are not committed).
 
-use foon_core::companion::{parse_objects, parse_rates, parse_utensils};
+use foon_core::parse::{parse_objects, parse_rates, parse_utensils};
 use foon_core::{Error, InputKind, ParseOptions, parse_foon};
 
 /// The (line, column) of a parse error.

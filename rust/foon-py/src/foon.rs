@@ -3,7 +3,7 @@
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, OnceLock};
 
-use foon_core::companion::ObjectSpec;
+use foon_core::ObjectSpec;
 use foon_core::{ParseOptions, verify, write};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString, PyTuple};

@@ -1,7 +1,9 @@
-//! Module functions: companion file loaders, the linter, method names, object checking.
+//! Module functions: the kitchen, goal, rate and utensil loaders, the linter, method names,
+//! object checking.
 
 use foon_core::InputKind;
-use foon_core::companion::{self, MotionRates};
+use foon_core::MotionRates;
+use foon_core::parse;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -52,7 +54,7 @@ pub(crate) fn load_objects(
 ) -> PyResult<Vec<ObjTuple>> {
     let k = kind_of(kind)?;
     let path = path_arg("path", path)?;
-    let v = enter(py, |_| companion::load_objects(&path, k))?;
+    let v = enter(py, |_| parse::load_objects(&path, k))?;
     Ok(v.into_iter().map(tuple_of).collect())
 }
 
@@ -68,7 +70,7 @@ pub(crate) fn parse_objects(
     let k = kind_of(kind)?;
     let data = text_bytes("text", text)?;
     let path = opt_path_arg("path", path)?;
-    let v = enter(py, |_| companion::parse_objects(&data, path.as_deref(), k))?;
+    let v = enter(py, |_| parse::parse_objects(&data, path.as_deref(), k))?;
     Ok(v.into_iter().map(tuple_of).collect())
 }
 
@@ -76,7 +78,7 @@ pub(crate) fn parse_objects(
 #[pyfunction]
 pub(crate) fn load_rates(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<(String, f64)>> {
     let path = path_arg("path", path)?;
-    Ok(enter(py, |_| companion::load_rates(&path))?.entries)
+    Ok(enter(py, |_| parse::load_rates(&path))?.entries)
 }
 
 #[pyfunction]
@@ -88,7 +90,7 @@ pub(crate) fn parse_rates(
 ) -> PyResult<Vec<(String, f64)>> {
     let data = text_bytes("text", text)?;
     let path = opt_path_arg("path", path)?;
-    Ok(enter(py, |_| companion::parse_rates(&data, path.as_deref()))?.entries)
+    Ok(enter(py, |_| parse::parse_rates(&data, path.as_deref()))?.entries)
 }
 
 /// Checks (motion, rate) pairs by the core's rule; returns them.
@@ -101,7 +103,7 @@ pub(crate) fn check_rates(pairs: Vec<(String, f64)>) -> PyResult<Vec<(String, f6
 #[pyfunction]
 pub(crate) fn load_utensils(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
     let path = path_arg("path", path)?;
-    enter(py, |_| companion::load_utensils(&path))
+    enter(py, |_| parse::load_utensils(&path))
 }
 
 #[pyfunction]
@@ -113,7 +115,7 @@ pub(crate) fn parse_utensils(
 ) -> PyResult<Vec<String>> {
     let data = text_bytes("text", text)?;
     let path = opt_path_arg("path", path)?;
-    enter(py, |_| companion::parse_utensils(&data, path.as_deref()))
+    enter(py, |_| parse::parse_utensils(&data, path.as_deref()))
 }
 
 /// A lint finding: (path, line, column, severity, code, message).

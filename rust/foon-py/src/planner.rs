@@ -2,9 +2,9 @@
 
 use std::sync::Arc;
 
-use foon_core::companion::MotionRates;
+use foon_core::MotionRates;
 use foon_core::search::batch::{self, BatchOptions};
-use foon_core::search::{Context, Prepared, Query};
+use foon_core::{Context, Prepared, Query};
 use pyo3::prelude::*;
 
 use crate::convert::{ObjTuple, specs_of, threads_arg};

@@ -12,7 +12,7 @@ mod common;
 
 use std::fmt::Write as _;
 
-use foon_core::companion::MotionRates;
+use foon_core::MotionRates;
 use foon_core::search::{Compat, Context, Count, Method, Plan, Query};
 use foon_core::{ObjectSpec, ParseOptions, parse_foon};
 use libfuzzer_sys::fuzz_target;

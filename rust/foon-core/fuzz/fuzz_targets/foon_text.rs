@@ -35,7 +35,10 @@ fuzz_target!(|data: &[u8]| {
     let text = write::foon_text(&foon);
     let again = parse_foon(text.as_bytes(), None, ParseOptions::default())
         .unwrap_or_else(|e| panic!("the written form does not parse: {e}\n{text}"));
-    assert!(again.warnings().is_empty(), "the written form has warnings\n{text}");
+    assert!(
+        again.warnings().is_empty(),
+        "the written form has warnings\n{text}"
+    );
     assert!(
         again.notes().iter().all(|w| !matches!(
             w.kind,

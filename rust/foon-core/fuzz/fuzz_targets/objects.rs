@@ -4,7 +4,7 @@
 #![no_main]
 
 use foon_core::InputKind;
-use foon_core::companion::parse_objects;
+use foon_core::parse::parse_objects;
 use libfuzzer_sys::fuzz_target;
 
 #[path = "common.rs"]

@@ -3,7 +3,7 @@
 
 #![no_main]
 
-use foon_core::companion::parse_utensils;
+use foon_core::parse::parse_utensils;
 use libfuzzer_sys::fuzz_target;
 
 #[path = "common.rs"]

@@ -23,9 +23,10 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
-use super::{Context, Plan, Prepared, Query};
+use super::{Context, Plan, Query};
 use crate::error::{Error, Result};
 use crate::index::Foon;
+use crate::prepare::Prepared;
 
 /// The environment variable that gives the default thread count.
 pub const THREADS_ENV: &str = "FOON_THREADS";

@@ -257,6 +257,6 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         units,
         expanded,
         peak_frontier: peak,
-        ..ctx.empty_plan(goal, query)
+        ..Plan::empty(goal, query)
     })
 }

@@ -171,6 +171,6 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         units,
         expanded: stats.expanded,
         peak_frontier: stats.peak,
-        ..ctx.empty_plan(goal, query)
+        ..Plan::empty(goal, query)
     })
 }

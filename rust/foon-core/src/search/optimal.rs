@@ -162,7 +162,7 @@ pub(super) fn knuth(
         if o == goal {
             break;
         }
-        for &f in ctx.needed_by.row(o) {
+        for &f in ctx.needed_by(o) {
             if !sub.has_fu.get(f) {
                 continue;
             }
@@ -202,7 +202,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     if !c.is_finite() {
         // Derivable, but every way to make it uses a motion of rate 0: nothing is missing and
         // no cycle blocks it, so the explanation is empty (the rates are the reason).
-        let mut p = ctx.empty_plan(goal, query);
+        let mut p = Plan::empty(goal, query);
         p.solved = false;
         p.explanation = Some(Explanation::default());
         return Ok(p);
@@ -218,7 +218,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         cost: Some(cost),
         expanded: k.expanded,
         peak_frontier: k.peak,
-        ..ctx.empty_plan(goal, query)
+        ..Plan::empty(goal, query)
     })
 }
 

@@ -1,12 +1,14 @@
 //! Forward chaining from the kitchen: derivable objects and their ranks (the fewest parallel
-//! steps that make them), in one pass over the index (breadth-first by rank).
+//! steps that make them), in one pass over the index (breadth-first by rank), over the whole
+//! FOON ([`ranks`], for [`Prepared::ranks`]) or over the units of one tree ([`unit_ranks`], for
+//! [`crate::evaluate`]).
 
 use std::collections::VecDeque;
 
 use rustc_hash::FxHashMap;
 
-use super::Context;
-use crate::index::NONE;
+use crate::index::{Foon, NONE};
+use crate::prepare::Prepared;
 
 /// Rank of every object (`NONE` when not derivable).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -39,20 +41,19 @@ impl Ranks {
 }
 
 /// Ranks from the kitchen (plus `extra` objects, if given).
-pub(crate) fn ranks(ctx: &Context<'_>, extra: Option<&[bool]>) -> Ranks {
-    let foon = ctx.foon;
+pub(crate) fn ranks(foon: &Foon, prep: &Prepared, extra: Option<&[bool]>) -> Ranks {
     let n = foon.object_count();
     let n_fu = foon.fu_count();
     let mut rank = vec![NONE; n];
     let mut queue = VecDeque::new();
     for o in 0..n as u32 {
-        if ctx.in_kitchen(o) || extra.is_some_and(|e| e[o as usize]) {
+        if prep.in_kitchen(o) || extra.is_some_and(|e| e[o as usize]) {
             rank[o as usize] = 0;
             queue.push_back(o);
         }
     }
     let mut left: Vec<u32> = (0..n_fu as u32)
-        .map(|f| ctx.needed(f).len() as u32)
+        .map(|f| prep.needed(f).len() as u32)
         .collect();
     let fire = |f: u32, r: u32, rank: &mut Vec<u32>, queue: &mut VecDeque<u32>| {
         for &y in foon.outputs(f) {
@@ -70,7 +71,7 @@ pub(crate) fn ranks(ctx: &Context<'_>, extra: Option<&[bool]>) -> Ranks {
     }
     while let Some(o) = queue.pop_front() {
         let r = rank[o as usize];
-        for &f in ctx.needed_by.row(o) {
+        for &f in prep.needed_by(o) {
             let l = &mut left[f as usize];
             *l -= 1;
             if *l == 0 {
@@ -104,8 +105,7 @@ impl TreeRanks {
 /// Ranks of the objects made by the FUs `units` alone, from the kitchen: the same least
 /// fixpoint as [`ranks`] restricted to those FUs, in time proportional to the units (not to the
 /// whole FOON) when they are few. Ids out of range and repeated units are ignored.
-pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> TreeRanks {
-    let foon = ctx.foon;
+pub(crate) fn unit_ranks(foon: &Foon, prep: &Prepared, units: &[u32]) -> TreeRanks {
     let mut us: Vec<u32> = units
         .iter()
         .copied()
@@ -118,9 +118,9 @@ pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> TreeRanks {
     let mut left: Vec<u32> = us
         .iter()
         .map(|&f| {
-            ctx.needed(f)
+            prep.needed(f)
                 .iter()
-                .filter(|&&x| !ctx.in_kitchen(x))
+                .filter(|&&x| !prep.in_kitchen(x))
                 .count() as u32
         })
         .collect();
@@ -138,8 +138,8 @@ pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> TreeRanks {
         TreeRanks::Dense(vec![NONE; foon.object_count()])
     } else {
         for (i, &f) in us.iter().enumerate() {
-            for &x in ctx.needed(f) {
-                if !ctx.in_kitchen(x) {
+            for &x in prep.needed(f) {
+                if !prep.in_kitchen(x) {
                     let slot = slot_unit.len() as u32;
                     slot_unit.push(i as u32);
                     slot_next.push(head.insert(x, slot).unwrap_or(NONE));
@@ -151,7 +151,7 @@ pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> TreeRanks {
     let mut queue = VecDeque::new();
     let fire = |f: u32, r: u32, rank: &mut TreeRanks, queue: &mut VecDeque<(u32, u32)>| {
         for &y in foon.outputs(f) {
-            if ctx.in_kitchen(y) || foon.is_bare(y) {
+            if prep.in_kitchen(y) || foon.is_bare(y) {
                 continue;
             }
             let fresh = match rank {
@@ -191,7 +191,7 @@ pub(crate) fn unit_ranks(ctx: &Context<'_>, units: &[u32]) -> TreeRanks {
     };
     while let Some((o, r)) = queue.pop_front() {
         if dense {
-            for &f in ctx.needed_by.row(o) {
+            for &f in prep.needed_by(o) {
                 let i = pos[f as usize];
                 if i != NONE {
                     arrive(i as usize, r, &mut rank, &mut queue);

@@ -1,7 +1,12 @@
 //! The compact, immutable index of a FOON: interned strings, an object table keyed by
 //! identity, and CSR arrays (flat offset + data vectors of `u32`) for FU inputs, FU outputs,
 //! producers and consumers. Every array is a plain vector of integers, so the layout is
-//! position independent and can later be written to disk and memory-mapped as it is.
+//! position independent and can later be written to disk and memory-mapped as it is. This
+//! module holds the [`Foon`] and its look-ups; [`Builder`] makes one.
+
+mod build;
+mod csr;
+mod interner;
 
 use std::path::PathBuf;
 
@@ -13,155 +18,12 @@ use rustc_hash::FxHasher;
 use crate::error::{Error, Result, Warning};
 use crate::model::{ObjectSpec, canonical_into};
 
+pub use build::{Builder, RawObject};
+pub use csr::Csr;
+pub use interner::Interner;
+
 /// "No value" in a `u32` column (no container, no metadata).
 pub const NONE: u32 = u32::MAX;
-
-/// Compressed sparse rows: row `i` is `data[off[i]..off[i + 1]]`.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct Csr {
-    off: Vec<u32>,
-    data: Vec<u32>,
-}
-
-impl Csr {
-    pub fn new() -> Self {
-        Self {
-            off: vec![0],
-            data: Vec::new(),
-        }
-    }
-
-    /// Appends a row.
-    pub fn push_row(&mut self, row: &[u32]) {
-        self.data.extend_from_slice(row);
-        self.off.push(self.data.len() as u32);
-    }
-
-    /// Row `i`; empty when out of range.
-    #[inline]
-    pub fn row(&self, i: u32) -> &[u32] {
-        let i = i as usize;
-        match (self.off.get(i), self.off.get(i + 1)) {
-            (Some(&a), Some(&b)) => &self.data[a as usize..b as usize],
-            _ => &[],
-        }
-    }
-
-    /// First position of row `i` in [`Csr::data`].
-    #[inline]
-    pub fn row_start(&self, i: u32) -> usize {
-        self.off.get(i as usize).map_or(0, |&a| a as usize)
-    }
-
-    pub fn rows(&self) -> usize {
-        self.off.len().saturating_sub(1)
-    }
-
-    pub fn data(&self) -> &[u32] {
-        &self.data
-    }
-
-    /// Builds the transposed relation: for `rows` rows, the list of `(row, value)` pairs given
-    /// by `pairs`, each row keeping the order in which its pairs come.
-    pub fn from_pairs(rows: usize, pairs: impl Iterator<Item = (u32, u32)> + Clone) -> Self {
-        let mut off = vec![0u32; rows + 1];
-        for (r, _) in pairs.clone() {
-            off[r as usize + 1] += 1;
-        }
-        for i in 0..rows {
-            off[i + 1] += off[i];
-        }
-        let mut fill: Vec<u32> = off[..rows].to_vec();
-        let mut data = vec![0u32; off[rows] as usize];
-        for (r, v) in pairs {
-            let slot = &mut fill[r as usize];
-            data[*slot as usize] = v;
-            *slot += 1;
-        }
-        Self { off, data }
-    }
-
-    /// Heap bytes used.
-    pub fn heap_bytes(&self) -> usize {
-        (self.off.capacity() + self.data.capacity()) * 4
-    }
-}
-
-/// String interner: every label, state, ingredient, container and motion is stored once, in
-/// one text buffer with end offsets; the hash table holds only ids.
-#[derive(Debug, Clone, Default)]
-pub struct Interner {
-    text: String,
-    ends: Vec<u64>,
-    table: HashTable<u32>,
-}
-
-fn hash_str(s: &str) -> u64 {
-    let mut h = FxHasher::default();
-    h.write(s.as_bytes());
-    h.finish()
-}
-
-fn slice<'a>(text: &'a str, ends: &[u64], id: u32) -> &'a str {
-    let i = id as usize;
-    let Some(&end) = ends.get(i) else { return "" };
-    let start = if i == 0 { 0 } else { ends[i - 1] };
-    text.get(start as usize..end as usize).unwrap_or("")
-}
-
-impl Interner {
-    pub fn intern(&mut self, s: &str) -> u32 {
-        let h = hash_str(s);
-        let (text, ends) = (&self.text, &self.ends);
-        if let Some(&id) = self.table.find(h, |&id| slice(text, ends, id) == s) {
-            return id;
-        }
-        let id = self.ends.len() as u32;
-        self.text.push_str(s);
-        self.ends.push(self.text.len() as u64);
-        let (text, ends) = (&self.text, &self.ends);
-        self.table
-            .insert_unique(h, id, |&id| hash_str(slice(text, ends, id)));
-        id
-    }
-
-    pub fn get(&self, s: &str) -> Option<u32> {
-        let (text, ends) = (&self.text, &self.ends);
-        self.table
-            .find(hash_str(s), |&id| slice(text, ends, id) == s)
-            .copied()
-    }
-
-    /// The text of id `id` (empty for [`NONE`] or an unknown id).
-    #[inline]
-    pub fn text(&self, id: u32) -> &str {
-        slice(&self.text, &self.ends, id)
-    }
-
-    pub fn len(&self) -> usize {
-        self.ends.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.ends.is_empty()
-    }
-
-    /// Heap bytes used.
-    pub fn heap_bytes(&self) -> usize {
-        self.text.capacity() + self.ends.capacity() * 8 + self.table.capacity() * 5
-    }
-}
-
-/// An object as written in a file, with its string ids in line order (before canonical
-/// sorting). `container` is [`NONE`] when there is none.
-#[derive(Debug, Clone, Copy)]
-pub struct RawObject<'a> {
-    pub label: u32,
-    pub states: &'a [u32],
-    pub ingredients: &'a [u32],
-    pub container: u32,
-    pub in_motion: u8,
-}
 
 /// An FU dropped because it repeats an earlier one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -570,7 +432,7 @@ pub(crate) fn identity_hash(
 
 /// The identity key of an FU: its motion, the number of inputs, the inputs sorted, the
 /// outputs sorted (SEMANTICS §2: same motion, same multisets of inputs and of outputs).
-fn fu_key_into(motion: u32, inputs: &[u32], outputs: &[u32], key: &mut Vec<u32>) {
+pub(super) fn fu_key_into(motion: u32, inputs: &[u32], outputs: &[u32], key: &mut Vec<u32>) {
     key.clear();
     key.push(motion);
     key.push(inputs.len() as u32);
@@ -581,238 +443,10 @@ fn fu_key_into(motion: u32, inputs: &[u32], outputs: &[u32], key: &mut Vec<u32>)
     key[s..].sort_unstable();
 }
 
-fn variant_hash(obj: u32, states: &[u32], ingredients: &[u32]) -> u64 {
-    identity_hash(obj, 0, states, ingredients)
-}
-
-fn slice_hash(key: &[u32]) -> u64 {
+pub(super) fn slice_hash(key: &[u32]) -> u64 {
     let mut h = FxHasher::default();
     for &x in key {
         h.write_u32(x);
     }
     h.finish()
-}
-
-/// Incremental construction of a [`Foon`]; used by the parser (and later by merging).
-#[derive(Debug, Default)]
-pub struct Builder {
-    foon: Foon,
-    /// Variant ids hashed by (object, states and ingredients in written order).
-    variants: HashTable<u32>,
-    scratch: Vec<u32>,
-    motion_seen: Vec<bool>,
-    id_key: Vec<u32>,
-    fu_key: Vec<u32>,
-    ins: Vec<u32>,
-    outs: Vec<u32>,
-    in_vars: Vec<u32>,
-    out_vars: Vec<u32>,
-}
-
-impl Builder {
-    pub fn new() -> Self {
-        let mut b = Self::default();
-        for csr in [
-            &mut b.foon.obj_states,
-            &mut b.foon.obj_ingredients,
-            &mut b.foon.var_states,
-            &mut b.foon.var_ingredients,
-            &mut b.foon.fu_inputs,
-            &mut b.foon.fu_outputs,
-        ] {
-            *csr = Csr::new();
-        }
-        b
-    }
-
-    pub fn intern(&mut self, s: &str) -> u32 {
-        self.foon.strings.intern(s)
-    }
-
-    pub fn text(&self, id: u32) -> &str {
-        self.foon.strings.text(id)
-    }
-
-    pub fn fu_count(&self) -> usize {
-        self.foon.fu_count()
-    }
-
-    /// Interns an object occurrence; returns `(object id, variant id)`.
-    fn object(&mut self, raw: &RawObject<'_>) -> (u32, u32) {
-        // Canonical form: states then ingredients, each sorted by id, in one scratch buffer.
-        let key = &mut self.id_key;
-        let ns = canonical_into(raw.states, raw.ingredients, key);
-        let (states, ingredients) = key.split_at(ns);
-        let f = &mut self.foon;
-        let obj = if let Some(o) = f.find_sorted(raw.label, states, ingredients, raw.container) {
-            o
-        } else {
-            let o = f.obj_label.len() as u32;
-            f.obj_label.push(raw.label);
-            f.obj_container.push(raw.container);
-            f.obj_states.push_row(states);
-            f.obj_ingredients.push_row(ingredients);
-            f.obj_first_variant.push(NONE);
-            let h = identity_hash(raw.label, raw.container, states, ingredients);
-            let (labels, conts, st, ing) = (
-                &f.obj_label,
-                &f.obj_container,
-                &f.obj_states,
-                &f.obj_ingredients,
-            );
-            f.identity.insert_unique(h, o, |&x| {
-                identity_hash(labels[x as usize], conts[x as usize], st.row(x), ing.row(x))
-            });
-            o
-        };
-        let vh = variant_hash(obj, raw.states, raw.ingredients);
-        let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
-        let found = self.variants.find(vh, |&v| {
-            vo[v as usize] == obj && vs.row(v) == raw.states && vi.row(v) == raw.ingredients
-        });
-        let var = if let Some(&v) = found {
-            v
-        } else {
-            let v = f.var_obj.len() as u32;
-            f.var_obj.push(obj);
-            f.var_states.push_row(raw.states);
-            f.var_ingredients.push_row(raw.ingredients);
-            let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
-            self.variants.insert_unique(vh, v, |&x| {
-                variant_hash(vo[x as usize], vs.row(x), vi.row(x))
-            });
-            v
-        };
-        if f.obj_first_variant[obj as usize] == NONE {
-            f.obj_first_variant[obj as usize] = var;
-        }
-        (obj, var)
-    }
-
-    /// Adds an FU; returns its index, or the index of the earlier equal FU when it is a
-    /// duplicate (`Err`), in which case it is recorded and dropped.
-    pub fn add_fu(
-        &mut self,
-        motion: u32,
-        motion_meta: u32,
-        inputs: &[RawObject<'_>],
-        outputs: &[RawObject<'_>],
-        line: u32,
-    ) -> Result<u32, u32> {
-        let mut in_ids = std::mem::take(&mut self.ins);
-        let mut out_ids = std::mem::take(&mut self.outs);
-        let mut in_vars = std::mem::take(&mut self.in_vars);
-        let mut out_vars = std::mem::take(&mut self.out_vars);
-        let mut key = std::mem::take(&mut self.fu_key);
-        for v in [
-            &mut in_ids,
-            &mut out_ids,
-            &mut in_vars,
-            &mut out_vars,
-            &mut key,
-        ] {
-            v.clear();
-        }
-        for raw in inputs {
-            let (o, v) = self.object(raw);
-            in_ids.push(o);
-            in_vars.push(v);
-        }
-        for raw in outputs {
-            let (o, v) = self.object(raw);
-            out_ids.push(o);
-            out_vars.push(v);
-        }
-        fu_key_into(motion, &in_ids, &out_ids, &mut key);
-        let h = slice_hash(&key);
-        let f = &self.foon;
-        let scratch = &mut self.scratch;
-        let found = f.fu_identity.find(h, |&g| {
-            fu_key_into(
-                f.fu_motion[g as usize],
-                f.fu_inputs.row(g),
-                f.fu_outputs.row(g),
-                scratch,
-            );
-            *scratch == key
-        });
-        let result = if let Some(&first) = found {
-            self.foon.duplicates.push(DuplicateFu { line, of: first });
-            Err(first)
-        } else {
-            let f = &mut self.foon;
-            let idx = f.fu_motion.len() as u32;
-            f.fu_motion.push(motion);
-            f.fu_motion_meta.push(motion_meta);
-            f.fu_line.push(line);
-            f.fu_inputs.push_row(&in_ids);
-            f.fu_outputs.push_row(&out_ids);
-            f.fu_input_variant.extend_from_slice(&in_vars);
-            f.fu_output_variant.extend_from_slice(&out_vars);
-            f.fu_input_in_motion
-                .extend(inputs.iter().map(|r| r.in_motion));
-            f.fu_output_in_motion
-                .extend(outputs.iter().map(|r| r.in_motion));
-            let (motions, ins, outs) = (&f.fu_motion, &f.fu_inputs, &f.fu_outputs);
-            // Rehashing (when the table grows) recomputes each key in one scratch buffer.
-            let k = std::cell::RefCell::new(Vec::new());
-            f.fu_identity.insert_unique(h, idx, |&x| {
-                let mut k = k.borrow_mut();
-                fu_key_into(motions[x as usize], ins.row(x), outs.row(x), &mut k);
-                slice_hash(&k)
-            });
-            let m = motion as usize;
-            if self.motion_seen.len() <= m {
-                self.motion_seen.resize(m + 1, false);
-            }
-            if !self.motion_seen[m] {
-                self.motion_seen[m] = true;
-                f.motions.push(motion);
-            }
-            Ok(idx)
-        };
-        self.ins = in_ids;
-        self.outs = out_ids;
-        self.in_vars = in_vars;
-        self.out_vars = out_vars;
-        self.fu_key = key;
-        result
-    }
-
-    pub fn warn(&mut self, w: Warning) {
-        self.foon.warnings.push(w);
-    }
-
-    pub fn note(&mut self, w: Warning) {
-        self.foon.notes.push(w);
-    }
-
-    /// Finishes the index: builds producers (course rule) and consumers.
-    pub fn finish(self, source: Option<PathBuf>) -> Foon {
-        let mut f = self.foon;
-        f.source = source;
-        let n_obj = f.obj_label.len();
-        let n_fu = f.fu_motion.len() as u32;
-        let outs = &f.fu_outputs;
-        let bare: Vec<bool> = (0..n_obj as u32)
-            .map(|o| {
-                f.obj_states.row(o).is_empty()
-                    && f.obj_ingredients.row(o).is_empty()
-                    && f.obj_container[o as usize] == NONE
-            })
-            .collect();
-        // An FU that outputs the same object twice is listed once as its producer.
-        let prod_pairs = (0..n_fu).flat_map(|fu| {
-            let row = outs.row(fu);
-            row.iter()
-                .enumerate()
-                .filter(|&(k, &o)| !bare[o as usize] && !row[..k].contains(&o))
-                .map(move |(_, &o)| (o, fu))
-        });
-        f.producers = Csr::from_pairs(n_obj, prod_pairs);
-        let ins = &f.fu_inputs;
-        let cons_pairs = (0..n_fu).flat_map(|fu| ins.row(fu).iter().map(move |&o| (o, fu)));
-        f.consumers = Csr::from_pairs(n_obj, cons_pairs);
-        f
-    }
 }

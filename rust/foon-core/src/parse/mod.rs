@@ -1,0 +1,86 @@
+//! Parsing: every text input into the model or the index. FOON text ([`parse_foon`]), lists
+//! of objects (kitchens and goals, [`parse_objects`]), motion tables ([`parse_rates`]) and
+//! utensil lists ([`parse_utensils`]), each with a `load_*` form that reads a file. They share
+//! one line reader and one line grammar (`lines`).
+
+mod foon;
+mod lines;
+mod objects;
+mod rates;
+mod utensils;
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::index::{Builder, Foon};
+
+pub use lines::MAX_LINE_BYTES;
+pub(crate) use objects::parse_objects_noting;
+pub use objects::{load_objects, parse_objects};
+pub(crate) use rates::parse_rates_recovering;
+pub use rates::{load_rates, parse_rates};
+pub use utensils::{load_utensils, parse_utensils};
+
+/// Options for loading.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ParseOptions {
+    /// Turn every warning into an error.
+    pub strict: bool,
+}
+
+/// Reads a whole file; the error names the file.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+/// Parses FOON text into an index.
+pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Result<Foon> {
+    parse_foon_cancellable(data, path, opts, &|| false)
+}
+
+/// As [`parse_foon`], calling `cancel` every few thousand lines: when it answers true, the
+/// parse stops with [`Error::Cancelled`].
+pub fn parse_foon_cancellable(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Foon> {
+    foon::parse_impl(data, path, opts, None, cancel)
+}
+
+/// Parses FOON text, going on after malformed lines: each error is collected and the unit it
+/// belongs to is dropped. Used by the linter, which reports every problem at once.
+pub fn parse_foon_recovering(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+) -> (Foon, Vec<Error>) {
+    let mut errors = Vec::new();
+    match foon::parse_impl(data, path, opts, Some(&mut errors), &|| false) {
+        Ok(f) => (f, errors),
+        Err(e) => {
+            errors.push(e);
+            (Builder::new().finish(path.map(Path::to_path_buf)), errors)
+        }
+    }
+}
+
+/// Reads a file and parses it as FOON text.
+pub fn load_foon(path: &Path, opts: ParseOptions) -> Result<Foon> {
+    load_foon_cancellable(path, opts, &|| false)
+}
+
+/// As [`load_foon`], calling `cancel` every few thousand lines (see
+/// [`parse_foon_cancellable`]).
+pub fn load_foon_cancellable(
+    path: &Path,
+    opts: ParseOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Foon> {
+    if cancel() {
+        return Err(Error::Cancelled);
+    }
+    let data = read_file(path)?;
+    parse_foon_cancellable(&data, Some(path), opts, cancel)
+}

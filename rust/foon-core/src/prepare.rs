@@ -1,0 +1,292 @@
+//! Preparing the planning inputs of one FOON, the stage below every search, check and lint:
+//! the kitchen matched to objects, the container rule (needed inputs), the motion rate of
+//! every FU, and derivability from the kitchen ([`Ranks`], computed once, by the forward
+//! chaining of `forward.rs`).
+
+use std::sync::OnceLock;
+
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use crate::error::{Error, Result};
+use crate::forward;
+
+pub use crate::forward::Ranks;
+use crate::index::{Csr, Foon, NONE};
+use crate::model::{MotionRates, ObjectSpec, check_rate};
+
+/// Planning inputs prepared for one FOON: the kitchen matched to objects, the container rule
+/// applied (needed inputs), the motion rate of every FU. It owns its data, so it can be kept
+/// and reused for any number of plans ([`Context::with`](crate::search::Context::with)); it
+/// is `Send + Sync`.
+pub struct Prepared {
+    objects: usize,
+    fus: usize,
+    in_kitchen: Vec<bool>,
+    kitchen_objects: Vec<u32>,
+    /// Needed inputs of each FU (container rule applied), in input order.
+    needed: Csr,
+    /// For each object, the FUs where it is a needed input (one entry per slot).
+    needed_by: Csr,
+    fu_rate: Vec<f64>,
+    rates_given: bool,
+    ranks: OnceLock<Ranks>,
+}
+
+impl Prepared {
+    /// Prepares `kitchen`, `utensils` and `rates` for `foon`. `rates` may be `None`;
+    /// `default_rate` fills motions missing from it.
+    pub fn new(
+        foon: &Foon,
+        kitchen: &[ObjectSpec],
+        utensils: &[String],
+        rates: Option<&MotionRates>,
+        default_rate: Option<f64>,
+    ) -> Result<Self> {
+        if let Some(r) = default_rate {
+            check_rate(None, r)?;
+        }
+        let n = foon.object_count();
+        let mut in_kitchen = vec![false; n];
+        let mut kitchen_objects = Vec::new();
+        for item in kitchen {
+            if let Some(o) = item.find_in(foon) {
+                if !in_kitchen[o as usize] {
+                    in_kitchen[o as usize] = true;
+                    kitchen_objects.push(o);
+                }
+            }
+        }
+        kitchen_objects.sort_unstable();
+        let utensil_ids: FxHashSet<u32> = utensils
+            .iter()
+            .filter_map(|u| foon.strings().get(u))
+            .collect();
+        let needed = needed_inputs(foon, &utensil_ids);
+        let n_fu = foon.fu_count() as u32;
+        let needed_by = Csr::from_pairs(
+            n,
+            (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
+        );
+        let fu_rate = (0..n_fu)
+            .map(|f| {
+                rates
+                    .and_then(|r| r.get(foon.motion_text(f)))
+                    .or(default_rate)
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+        Ok(Self {
+            objects: n,
+            fus: n_fu as usize,
+            in_kitchen,
+            kitchen_objects,
+            needed,
+            needed_by,
+            fu_rate,
+            rates_given: rates.is_some() || default_rate.is_some(),
+            ranks: OnceLock::new(),
+        })
+    }
+
+    /// Errors when these inputs were prepared for another FOON than `foon`.
+    pub(crate) fn check_foon(&self, foon: &Foon) -> Result<()> {
+        if self.objects != foon.object_count() || self.fus != foon.fu_count() {
+            return Err(Error::Invalid(
+                "these planning inputs were prepared for another FOON".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    #[inline]
+    pub fn in_kitchen(&self, o: u32) -> bool {
+        self.in_kitchen[o as usize]
+    }
+
+    /// Per object: whether it is in the kitchen.
+    pub(crate) fn kitchen_flags(&self) -> &[bool] {
+        &self.in_kitchen
+    }
+
+    /// Kitchen objects of the FOON, in id order.
+    pub fn kitchen_objects(&self) -> &[u32] {
+        &self.kitchen_objects
+    }
+
+    /// Needed inputs of `fu` (after the container rule).
+    #[inline]
+    pub fn needed(&self, fu: u32) -> &[u32] {
+        self.needed.row(fu)
+    }
+
+    /// The FUs where `o` is a needed input (one entry per slot).
+    #[inline]
+    pub(crate) fn needed_by(&self, o: u32) -> &[u32] {
+        self.needed_by.row(o)
+    }
+
+    /// Whether a rate table or a default rate was given.
+    pub(crate) fn rates_given(&self) -> bool {
+        self.rates_given
+    }
+
+    /// The rate of every FU's motion, NaN when it has none.
+    pub(crate) fn fu_rates(&self) -> &[f64] {
+        &self.fu_rate
+    }
+
+    /// Success rate of `fu`'s motion (`foon` is the FOON these inputs were prepared for), or
+    /// the error naming the motion.
+    pub(crate) fn rate(&self, foon: &Foon, fu: u32) -> Result<f64> {
+        let r = self.fu_rate[fu as usize];
+        if r.is_nan() {
+            Err(Error::MissingRate {
+                motion: foon.motion_text(fu).to_owned(),
+            })
+        } else {
+            Ok(r)
+        }
+    }
+
+    /// Ranks and derivability from the kitchen (computed once, on first use; `foon` is the
+    /// FOON these inputs were prepared for).
+    pub(crate) fn ranks(&self, foon: &Foon) -> &Ranks {
+        self.ranks.get_or_init(|| forward::ranks(foon, self, None))
+    }
+
+    /// Ranks from the kitchen plus the objects marked in `extra`.
+    pub(crate) fn ranks_with(&self, foon: &Foon, extra: &[bool]) -> Ranks {
+        forward::ranks(foon, self, Some(extra))
+    }
+}
+
+/// Needed inputs of every FU: the container rule removes an input whose label is a utensil
+/// and whose ingredients are exactly `[x]` when another input of the FU is labelled `x` and
+/// sits in that utensil. Linear in the inputs: the (label, container) pairs of an FU's inputs
+/// are counted once, and an input's own pair is not "another input".
+fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
+    let mut out = Csr::new();
+    let mut row = Vec::new();
+    let mut held: FxHashMap<(u32, u32), u32> = FxHashMap::default();
+    for f in 0..foon.fu_count() as u32 {
+        let ins = foon.inputs(f);
+        row.clear();
+        // Only an input that holds one ingredient in a utensil can be skipped.
+        let holder = |o: u32| foon.ingredients(o).len() == 1 && utensils.contains(&foon.label(o));
+        if !ins.iter().any(|&o| holder(o)) {
+            out.push_row(ins);
+            continue;
+        }
+        held.clear();
+        for &p in ins {
+            let c = foon.container(p);
+            if c != NONE {
+                *held.entry((foon.label(p), c)).or_default() += 1;
+            }
+        }
+        for &o in ins {
+            let skip = holder(o) && {
+                let pair = (foon.ingredients(o)[0], foon.label(o));
+                let own = u32::from((foon.label(o), foon.container(o)) == pair);
+                held.get(&pair).copied().unwrap_or(0) > own
+            };
+            if !skip {
+                row.push(o);
+            }
+        }
+        out.push_row(&row);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use std::fmt::Write as _;
+
+    use rustc_hash::FxHashSet;
+
+    use super::needed_inputs;
+    use crate::index::Foon;
+    use crate::parse::{ParseOptions, parse_foon};
+
+    /// The container rule as written in `docs/METHODS.md`: for each input, look at every other
+    /// position of the FU's input list.
+    fn quadratic(foon: &Foon, utensils: &FxHashSet<u32>, f: u32) -> Vec<u32> {
+        let ins = foon.inputs(f);
+        let mut row = Vec::new();
+        for (i, &o) in ins.iter().enumerate() {
+            let ing = foon.ingredients(o);
+            let skip = ing.len() == 1
+                && utensils.contains(&foon.label(o))
+                && ins.iter().enumerate().any(|(j, &p)| {
+                    j != i && foon.label(p) == ing[0] && foon.container(p) == foon.label(o)
+                });
+            if !skip {
+                row.push(o);
+            }
+        }
+        row
+    }
+
+    /// The linear container rule gives the quadratic definition's needed inputs on random
+    /// FUs: utensils holding one or two ingredients, inputs in the right or another container,
+    /// a utensil that holds itself and sits in itself, the same input several times.
+    #[test]
+    fn linear_container_rule_matches_the_definition() {
+        const LABELS: [&str; 5] = ["bowl", "pot", "egg", "salt", "bowl2"];
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % n) as usize
+        };
+        let mut skipped = 0;
+        for round in 0..300 {
+            let mut text = String::new();
+            for _ in 0..=next(6) {
+                let mut objs: Vec<String> = Vec::new();
+                for _ in 0..next(12) {
+                    let mut o = format!("O\t{}\n", LABELS[next(5)]);
+                    match next(4) {
+                        0 => {}
+                        1 => {
+                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
+                        }
+                        2 => {
+                            let (a, b) = (LABELS[next(5)], LABELS[next(5)]);
+                            let _ = writeln!(o, "S\tcontains\t{{{a},{b}}}");
+                        }
+                        _ => {
+                            let _ = writeln!(o, "S\tcontains\t{{{}}}", LABELS[next(5)]);
+                            let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
+                        }
+                    }
+                    if next(2) == 0 {
+                        let _ = writeln!(o, "S\tin\t[{}]", LABELS[next(5)]);
+                    }
+                    if next(3) == 0 && !objs.is_empty() {
+                        o = objs[next(objs.len() as u64)].clone(); // a duplicate input
+                    }
+                    objs.push(o);
+                }
+                for o in &objs {
+                    text.push_str(o);
+                }
+                text.push_str("M\tmix\nO\tdone\nS\tx\n//\n");
+            }
+            let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+            let utensils: FxHashSet<u32> = ["bowl", "pot", "bowl2"]
+                .iter()
+                .take(1 + round % 3)
+                .filter_map(|u| foon.strings().get(u))
+                .collect();
+            let linear = needed_inputs(&foon, &utensils);
+            for f in 0..foon.fu_count() as u32 {
+                assert_eq!(linear.row(f), quadratic(&foon, &utensils, f), "{text}");
+                skipped += foon.inputs(f).len() - linear.row(f).len();
+            }
+        }
+        assert!(skipped > 100, "the rule skipped only {skipped} inputs");
+    }
+}

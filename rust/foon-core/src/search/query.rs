@@ -1,0 +1,123 @@
+//! The vocabulary of a planning call: the [`Method`], the [`Compat`]ibility, how
+//! `greedy-inputs` [`Count`]s inputs, and the [`Query`] that holds them.
+
+use std::str::FromStr;
+
+use crate::error::{Error, Result};
+
+/// A planning method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Method {
+    Bfs,
+    Ids,
+    GreedySuccess,
+    GreedyInputs,
+    OptimalSuccess,
+    OptimalUnits,
+    OptimalInputs,
+}
+
+impl Method {
+    pub const ALL: [Method; 7] = [
+        Self::Bfs,
+        Self::Ids,
+        Self::GreedySuccess,
+        Self::GreedyInputs,
+        Self::OptimalSuccess,
+        Self::OptimalUnits,
+        Self::OptimalInputs,
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Bfs => "bfs",
+            Self::Ids => "ids",
+            Self::GreedySuccess => "greedy-success",
+            Self::GreedyInputs => "greedy-inputs",
+            Self::OptimalSuccess => "optimal-success",
+            Self::OptimalUnits => "optimal-units",
+            Self::OptimalInputs => "optimal-inputs",
+        }
+    }
+
+    /// Whether this method needs motion rates to choose.
+    pub fn uses_rates(self) -> bool {
+        matches!(self, Self::GreedySuccess | Self::OptimalSuccess)
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.as_str() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
+                Error::Invalid(format!(
+                    "unknown method '{s}' (choose from {})",
+                    names.join(", ")
+                ))
+            })
+    }
+}
+
+/// Which semantics: the course code's, or sound (always executable) trees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Compat {
+    #[default]
+    Sound,
+    Course,
+}
+
+impl FromStr for Compat {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "sound" | "none" => Ok(Self::Sound),
+            "course" => Ok(Self::Course),
+            _ => Err(Error::Invalid(format!(
+                "unknown compatibility '{s}' (choose from course, sound)"
+            ))),
+        }
+    }
+}
+
+/// How `greedy-inputs` counts the inputs of an FU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Count {
+    #[default]
+    Nodes,
+    Ingredients,
+}
+
+impl FromStr for Count {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "nodes" => Ok(Self::Nodes),
+            "ingredients" => Ok(Self::Ingredients),
+            _ => Err(Error::Invalid(format!(
+                "unknown count '{s}' (choose from nodes, ingredients)"
+            ))),
+        }
+    }
+}
+
+/// Options of one planning call.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Query {
+    pub method: Method,
+    pub compat: Compat,
+    pub count: Count,
+}
+
+impl Default for Query {
+    fn default() -> Self {
+        Self {
+            method: Method::Ids,
+            compat: Compat::Sound,
+            count: Count::Nodes,
+        }
+    }
+}
