@@ -109,13 +109,14 @@ class Object(_Frozen):
     sequences of ``str`` (not a ``str``), ``container`` a ``str`` or ``None``.
     """
 
-    __slots__ = ("container", "ingredients", "label", "states")
+    __slots__ = ("_identity", "container", "ingredients", "label", "states")
     __match_args__ = ("label", "states", "ingredients", "container")
 
     label: str
     states: tuple[str, ...]
     ingredients: tuple[str, ...]
     container: str | None
+    _identity: tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
     def __init__(
         self,
@@ -142,13 +143,15 @@ class Object(_Frozen):
         }
 
     def identity(self) -> tuple[str, tuple[str, ...], tuple[str, ...], str | None]:
-        """``(label, sorted states, sorted ingredients, container)``."""
-        return (
-            self.label,
-            tuple(sorted(self.states)),
-            tuple(sorted(self.ingredients)),
-            self.container,
-        )
+        """``(label, sorted states, sorted ingredients, container)``, by the core's rule
+        (computed once per object)."""
+        try:
+            return self._identity
+        except AttributeError:
+            label, states, ingredients, container = _foon.object_identity(*self._fields())
+            ident = (label, tuple(states), tuple(ingredients), container)
+            _set(self, "_identity", ident)
+            return ident
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Object) and self.identity() == other.identity()
@@ -163,14 +166,8 @@ class Object(_Frozen):
         )
 
     def __str__(self) -> str:
-        s = self.label
-        if self.states:
-            s += " (" + ", ".join(self.states) + ")"
-        if self.ingredients:
-            s += " {" + ",".join(self.ingredients) + "}"
-        if self.container is not None:
-            s += f" in [{self.container}]"
-        return s
+        """``label (states) {ingredients} in [container]`` (the core's one-line form)."""
+        return _foon.object_text(*self._fields())
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (Object, self._fields())

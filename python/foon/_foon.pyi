@@ -1,7 +1,7 @@
 """Private native module (Rust, PyO3). Use the public API in ``foon`` instead."""
 
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import Any, TypeAlias, final
 
 __all__ = [
@@ -22,6 +22,8 @@ __all__ = [
     "methods",
     "object_fields",
     "object_fields_of_mapping",
+    "object_identity",
+    "object_text",
     "parse_objects",
     "parse_rates",
     "parse_utensils",
@@ -159,6 +161,12 @@ def object_fields(
     label: str, states: Iterable[str], ingredients: Iterable[str], container: str | None
 ) -> _Fields: ...
 def object_fields_of_mapping(d: Any) -> _Fields: ...
+def object_identity(
+    label: str, states: Sequence[str], ingredients: Sequence[str], container: str | None
+) -> tuple[str, list[str], list[str], str | None]: ...
+def object_text(
+    label: str, states: Sequence[str], ingredients: Sequence[str], container: str | None
+) -> str: ...
 def load_objects(path: _Path, kind: str) -> list[_Obj]: ...
 def parse_objects(text: str | bytes, kind: str, path: _Path | None = None) -> list[_Obj]: ...
 def load_rates(path: _Path) -> list[tuple[str, float]]: ...

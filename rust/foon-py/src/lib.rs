@@ -25,7 +25,8 @@ mod _foon {
     #[pymodule_export]
     use super::loaders::{
         check, check_rates, load_objects, load_rates, load_utensils, max_threads, methods,
-        object_fields, object_fields_of_mapping, parse_objects, parse_rates, parse_utensils,
+        object_fields, object_fields_of_mapping, object_identity, object_text, parse_objects,
+        parse_rates, parse_utensils,
     };
 
     #[pymodule_export]

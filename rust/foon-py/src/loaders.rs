@@ -2,7 +2,7 @@
 //! object checking.
 
 use foon_core::InputKind;
-use foon_core::MotionRates;
+use foon_core::{MotionRates, ObjectSpec};
 use foon_core::parse;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -43,6 +43,47 @@ pub(crate) fn object_fields_of_mapping<'py>(
 ) -> PyResult<Bound<'py, PyTuple>> {
     let spec = spec_of_mapping(d)?;
     spec_fields(d.py(), spec)
+}
+
+/// An object's identity by the core's rule: (label, sorted states, sorted ingredients,
+/// container), for `Object.__eq__` and `__hash__`.
+#[pyfunction]
+pub(crate) fn object_identity(
+    label: String,
+    states: Vec<String>,
+    ingredients: Vec<String>,
+    container: Option<String>,
+) -> (String, Vec<String>, Vec<String>, Option<String>) {
+    let spec = ObjectSpec {
+        label,
+        states,
+        ingredients,
+        container,
+    };
+    let (label, states, ingredients, container) = spec.identity();
+    (
+        label.to_owned(),
+        states.into_iter().map(str::to_owned).collect(),
+        ingredients.into_iter().map(str::to_owned).collect(),
+        container.map(str::to_owned),
+    )
+}
+
+/// An object's one-line text: `label (states) {ingredients} in [container]`.
+#[pyfunction]
+pub(crate) fn object_text(
+    label: String,
+    states: Vec<String>,
+    ingredients: Vec<String>,
+    container: Option<String>,
+) -> String {
+    ObjectSpec {
+        label,
+        states,
+        ingredients,
+        container,
+    }
+    .describe()
 }
 
 /// Reads a list of objects (kitchen or goal; JSON or FOON object blocks) from a file.
