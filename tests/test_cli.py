@@ -73,9 +73,11 @@ def test_label_goal_and_ambiguous_label(capsys: Capture) -> None:
 
 
 def test_usage_errors_exit_2(capsys: Capture) -> None:
-    with pytest.raises(SystemExit) as e:
-        main(["plan", "--method", "dfs"])
-    assert e.value.code == 2
+    code, _, err = run(["plan", "--method", "dfs"], capsys)
+    assert code == 2 and err.startswith("usage: foon plan ") and "invalid choice" in err
+    # An unknown option is reported by the command's parser too.
+    code, _, err = run(["plan", "--bogus"], capsys)
+    assert code == 2 and err.startswith("usage: foon plan ") and "--bogus" in err
     code, _, err = run(["plan", "--foon", str(foon.example().paths["foon"])], capsys)
     assert code == 2 and "give the goal" in err
     # The usage shown is the subcommand's, not the top-level one.

@@ -260,9 +260,7 @@ def test_out_files_have_the_usual_permissions(tmp_path: Path, capsys: Capture, m
 
 
 def test_out_empty_is_a_usage_error(capsys: Capture) -> None:
-    with pytest.raises(SystemExit) as e:
-        main(["plan", "--out", ""])
-    assert e.value.code == 2
+    assert main(["plan", "--out", ""]) == 2
     err = capsys.readouterr().err
     assert err.startswith("usage: foon plan ") and "--out: the folder name is empty" in err
 
@@ -688,3 +686,25 @@ def test_a_goal_whose_search_meets_an_unrated_motion_is_its_own_failure(
     assert "b (hot): FAILED:" in err and "boil" in err
     code, out, err = run(base, capsys)
     assert code == 1 and out.count("# goal:") == 2 and "M\tcut" in out
+
+
+@pytest.mark.parametrize(
+    "argv", [["--version"], ["--help"], ["plan", "--help"], ["stats", "--help"]]
+)
+def test_version_and_help_on_a_full_disk_or_a_closed_pipe(argv: list[str]) -> None:
+    """Output that cannot be written is an error (exit 1), never a traceback nor a silent
+    success."""
+    full = Path("/dev/full")
+    if full.exists():
+        with full.open("w") as out:
+            p = subprocess.run([sys.executable, "-m", "foon", *argv], check=False, stdout=out,
+                               stderr=subprocess.PIPE, text=True, timeout=60)  # fmt: skip
+        assert p.returncode == 1 and "Traceback" not in p.stderr
+        assert p.stderr.startswith("foon: error: ") and p.stderr.count("\n") == 1
+    with subprocess.Popen([sys.executable, "-m", "foon", *argv], stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True) as q:  # fmt: skip
+        assert q.stdout is not None and q.stderr is not None
+        q.stdout.close()
+        err = q.stderr.read()
+        code = q.wait(timeout=60)
+    assert code == 1 and err == ""

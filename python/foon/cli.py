@@ -21,6 +21,8 @@ if TYPE_CHECKING:
     import argparse
     from collections.abc import Sequence
 
+    from _typeshed import SupportsWrite
+
 
 class UsageError(Exception):
     """A command-line mistake found after parsing (exit code 2, with the command's usage)."""
@@ -77,7 +79,15 @@ def _folder(text: str) -> str:
 def build_parser() -> argparse.ArgumentParser:
     import argparse
 
-    p = argparse.ArgumentParser(
+    class Parser(argparse.ArgumentParser):
+        """argparse's parser, except that a help or usage text that cannot be written (a
+        closed pipe, a full disk) is an error rather than silently lost."""
+
+        def _print_message(self, message: str, file: SupportsWrite[str] | None = None) -> None:
+            if message:
+                (file or sys.stderr).write(message)
+
+    p = Parser(
         prog="foon",
         description=f"Parse FOON files and retrieve task trees (foon {foon.__version__}).",
     )
@@ -213,13 +223,58 @@ def _quiet_closed_pipe() -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    if list(sys.argv[1:] if argv is None else argv) == ["--version"]:
+    try:
+        return _run(list(sys.argv[1:] if argv is None else argv))
+    except BrokenPipeError:
+        _quiet_closed_pipe()
+        return 1
+    except KeyboardInterrupt:
+        print("foon: interrupted", file=sys.stderr)
+        return 130
+
+
+def _flush_or_quiet() -> None:
+    """Flushes stdout; when it cannot be written (a full disk, a closed pipe), drops what is
+    left so that the interpreter's last flush does not fail again with a traceback."""
+    try:
+        sys.stdout.flush()
+    except OSError:
+        _quiet_closed_pipe()
+
+
+def _run(argv: list[str]) -> int:
+    if argv == ["--version"]:
         # What the parser would print, without importing argparse (and re) to print it.
-        print(f"foon {foon.__version__}")
+        try:
+            print(f"foon {foon.__version__}")
+            sys.stdout.flush()
+        except BrokenPipeError:
+            raise
+        except OSError as e:
+            _quiet_closed_pipe()
+            error(e)
+            return 1
         return 0
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        try:
+            args, extra = parser.parse_known_args(argv)
+        except SystemExit as e:  # --help, or a usage error (argparse printed it)
+            sys.stdout.flush()
+            return e.code if isinstance(e.code, int) else 2
+    except BrokenPipeError:
+        raise
+    except OSError as err:  # the help text could not be written
+        _quiet_closed_pipe()
+        error(err)
+        return 1
     sub: argparse.ArgumentParser = args.parser
+    if extra:
+        # Reported by the command's own parser, with the command's usage line.
+        try:
+            sub.error(f"unrecognized arguments: {' '.join(extra)}")
+        except SystemExit as e:
+            return e.code if isinstance(e.code, int) else 2
     try:
         from foon import _cli_commands
 
@@ -227,15 +282,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stdout.flush()
         return code
     except BrokenPipeError:
-        _quiet_closed_pipe()
-        return 1
+        raise
     except (CliError, foon.FoonError, OSError) as e:
+        _flush_or_quiet()
         error(e)
         return 1
     except (UsageError, ValueError) as e:  # an option value the core rejects is one too
+        _flush_or_quiet()
         sub.print_usage(sys.stderr)
         error(e)
         return 2
-    except KeyboardInterrupt:
-        print("foon: interrupted", file=sys.stderr)
-        return 130
