@@ -127,30 +127,37 @@ LOAD_SCRIPT = """
 import signal, sys, time
 import foon
 
+call = foon.load if sys.argv[2] == "load" else foon.check
 start = time.monotonic()
-foon.load(sys.argv[1])
+call(sys.argv[1])
 full = time.monotonic() - start
 print("ready", full, flush=True)
 try:
-    foon.load(sys.argv[1])
+    call(sys.argv[1])
 except KeyboardInterrupt:
     print("interrupted", time.monotonic(), flush=True)
 else:
-    print("loaded", time.monotonic(), flush=True)
+    print("finished", time.monotonic(), flush=True)
 """
 
 
-@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
-def test_ctrl_c_stops_a_long_load(tmp_path: Path) -> None:
-    """The loader asks for interruption as it goes: Ctrl-C early in a load stops it long
-    before the load would have ended (measured against a full load of the same file in the
-    same process, so the bound holds on a slow machine too)."""
-    f = tmp_path / "big.foon"
+@pytest.fixture(scope="module")
+def big_foon(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    f = tmp_path_factory.mktemp("big") / "big.foon"
     with f.open("w") as fh:
         for i in range(1_000_000):
             fh.write(f"O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{i + 1}\n//\n")
+    return f
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("call", ["load", "check"])
+def test_ctrl_c_stops_a_long_load_or_check(big_foon: Path, call: str) -> None:
+    """The loader and the linter ask for interruption as they go: Ctrl-C early in a load (or
+    a check) stops it long before it would have ended (measured against a full run on the
+    same file in the same process, so the bound holds on a slow machine too)."""
     p = subprocess.Popen(
-        [sys.executable, "-c", LOAD_SCRIPT, str(f)],
+        [sys.executable, "-c", LOAD_SCRIPT, str(big_foon), call],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
     assert p.stdout is not None

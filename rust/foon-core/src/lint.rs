@@ -8,7 +8,8 @@ use crate::error::{Error, InputKind, Location, Warning, WarningKind};
 use crate::index::Foon;
 use crate::model::{MotionRates, ObjectSpec};
 use crate::parse::{
-    ParseOptions, parse_foon_recovering, parse_objects_noting, parse_rates_recovering, read_file,
+    ParseOptions, parse_foon_recovering_cancellable, parse_objects_noting, parse_rates_recovering,
+    read_file,
 };
 use crate::prepare::Prepared;
 
@@ -99,14 +100,31 @@ fn from_warning(w: &Warning) -> Finding {
 
 /// Checks one input (FOON text, or a list of objects in FOON block form).
 pub fn lint(data: &[u8], path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Finding> {
+    match lint_cancellable(data, path, opts, &|| false) {
+        Ok(found) => found,
+        Err(e) => vec![from_error(e, path)],
+    }
+}
+
+/// As [`lint`], calling `cancel` every few thousand lines of the parse: when it answers true,
+/// the check stops with [`crate::Error::Cancelled`].
+pub fn lint_cancellable(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: &LintOptions<'_>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> crate::Result<Vec<Finding>> {
     if is_object_list(data) {
         let mut notes = Vec::new();
-        return match parse_objects_noting(data, path, InputKind::Kitchen, &mut notes) {
-            Ok(_) => notes.iter().map(from_warning).collect(),
-            Err(e) => vec![from_error(e, path)],
-        };
+        return Ok(
+            match parse_objects_noting(data, path, InputKind::Kitchen, &mut notes) {
+                Ok(_) => notes.iter().map(from_warning).collect(),
+                Err(e) => vec![from_error(e, path)],
+            },
+        );
     }
-    let (foon, errors) = parse_foon_recovering(data, path, ParseOptions::default());
+    let (foon, errors) =
+        parse_foon_recovering_cancellable(data, path, ParseOptions::default(), cancel)?;
     let mut out: Vec<Finding> = errors.into_iter().map(|e| from_error(e, path)).collect();
     out.extend(foon.warnings().iter().map(from_warning));
     out.extend(foon.notes().iter().map(from_warning));
@@ -125,7 +143,7 @@ pub fn lint(data: &[u8], path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Fin
     out.sort_by(|a, b| {
         (a.at.line, a.at.column, a.severity).cmp(&(b.at.line, b.at.column, b.severity))
     });
-    out
+    Ok(out)
 }
 
 fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Finding> {
@@ -204,8 +222,20 @@ fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> V
 
 /// Reads and checks a file.
 pub fn lint_file(path: &Path, opts: &LintOptions<'_>) -> crate::Result<Vec<Finding>> {
+    lint_file_cancellable(path, opts, &|| false)
+}
+
+/// As [`lint_file`], stopping with [`crate::Error::Cancelled`] once `cancel` answers true.
+pub fn lint_file_cancellable(
+    path: &Path,
+    opts: &LintOptions<'_>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> crate::Result<Vec<Finding>> {
+    if cancel() {
+        return Err(crate::Error::Cancelled);
+    }
     let data = read_file(path)?;
-    Ok(lint(&data, Some(path), opts))
+    lint_cancellable(&data, Some(path), opts, cancel)
 }
 
 /// Checks a motion table: every bad line is an error finding (code `syntax`; a motion with

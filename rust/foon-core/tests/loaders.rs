@@ -674,3 +674,18 @@ fn goals_by_spec_label_and_id() {
         "The goal node does not exist: object id 18 (the FOON has 18 objects)"
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn devices_are_refused_rather_than_read_without_end() {
+    use foon_core::parse::{load_objects, load_rates, load_utensils};
+    let zero = Path::new("/dev/zero");
+    if !zero.exists() {
+        return;
+    }
+    let e = foon_core::load_foon(zero, ParseOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("not a regular file"), "{e}");
+    assert!(load_rates(zero).is_err());
+    assert!(load_utensils(zero).is_err());
+    assert!(load_objects(zero, foon_core::InputKind::Kitchen).is_err());
+}

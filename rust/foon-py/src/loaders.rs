@@ -2,8 +2,8 @@
 //! object checking.
 
 use foon_core::InputKind;
-use foon_core::{MotionRates, ObjectSpec};
 use foon_core::parse;
+use foon_core::{MotionRates, ObjectSpec};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -185,7 +185,7 @@ pub(crate) fn check(
         .map(MotionRates::from_pairs)
         .transpose()
         .map_err(PyFoonErr)?;
-    let findings = enter(py, |_| {
+    let findings = enter(py, |cancel| {
         let mut all = Vec::new();
         let mut rates = rates;
         if let Some(p) = &rates_file {
@@ -199,7 +199,7 @@ pub(crate) fn check(
             utensils: &utensils,
         };
         for p in &paths {
-            all.extend(foon_core::lint::lint_file(p, &opts)?);
+            all.extend(foon_core::lint::lint_file_cancellable(p, &opts, cancel)?);
         }
         Ok(all)
     })?;

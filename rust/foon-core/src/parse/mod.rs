@@ -28,9 +28,33 @@ pub struct ParseOptions {
     pub strict: bool,
 }
 
-/// Reads a whole file; the error names the file.
+/// Reads a whole file; the error names the file. Regular files and pipes are read (a FIFO
+/// or a process substitution such as `<(zcat foon.txt.gz)` waits for its writer, as `cat`
+/// does); devices and sockets are refused, so that `/dev/zero` is an error rather than a read
+/// without end.
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if !readable_kind(meta.file_type()) {
+        return Err(Error::io(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file (a device or a socket)",
+            ),
+        ));
+    }
     std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+#[cfg(unix)]
+fn readable_kind(t: std::fs::FileType) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    !(t.is_char_device() || t.is_block_device() || t.is_socket())
+}
+
+#[cfg(not(unix))]
+fn readable_kind(_: std::fs::FileType) -> bool {
+    true
 }
 
 /// Parses FOON text into an index.
@@ -56,12 +80,27 @@ pub fn parse_foon_recovering(
     path: Option<&Path>,
     opts: ParseOptions,
 ) -> (Foon, Vec<Error>) {
+    match parse_foon_recovering_cancellable(data, path, opts, &|| false) {
+        Ok(r) => r,
+        Err(e) => (Builder::new().finish(path.map(Path::to_path_buf)), vec![e]),
+    }
+}
+
+/// As [`parse_foon_recovering`], calling `cancel` every few thousand lines: when it answers
+/// true, the parse stops with [`Error::Cancelled`] (the only error it returns).
+pub fn parse_foon_recovering_cancellable(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<(Foon, Vec<Error>)> {
     let mut errors = Vec::new();
-    match foon::parse_impl(data, path, opts, Some(&mut errors), &|| false) {
-        Ok(f) => (f, errors),
+    match foon::parse_impl(data, path, opts, Some(&mut errors), cancel) {
+        Ok(f) => Ok((f, errors)),
+        Err(Error::Cancelled) => Err(Error::Cancelled),
         Err(e) => {
             errors.push(e);
-            (Builder::new().finish(path.map(Path::to_path_buf)), errors)
+            Ok((Builder::new().finish(path.map(Path::to_path_buf)), errors))
         }
     }
 }
