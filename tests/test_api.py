@@ -8,6 +8,7 @@ import os
 import warnings
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import foon
 import pytest
@@ -398,3 +399,44 @@ def test_iterating_a_tree_builds_no_objects(monkeypatch: pytest.MonkeyPatch) -> 
     assert first.inputs == tuple(real(ex.foon, o) for o in first.input_ids)
     assert built == list(first.input_ids)
     assert first == ex.foon.fu(first.index)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "named"),
+    [
+        ({"method": 5}, "method must be a str"),
+        ({"compat": 1}, "compat must be a str"),
+        ({"method": "greedy-inputs", "count": None}, "count must be a str"),
+        ({"motions": 5}, "motions must be"),
+        ({"motions": {"mix": "x"}}, "the rate of 'mix' in motions"),
+        ({"motions": {1: 0.5}}, "a motion of motions must be a str"),
+        ({"default_rate": "0.5"}, "default_rate must be a number"),
+        ({"default_rate": True}, "default_rate must be a number"),
+        ({"utensils": [1]}, "utensils[0] must be a str"),
+        ({"utensils": 5}, "utensils must be"),
+    ],
+)
+def test_every_planning_argument_is_type_checked(kwargs: dict[str, Any], named: str) -> None:
+    ex = foon.example()
+    with pytest.raises(TypeError) as e:
+        ex.foon.plan(ex.goals[0], ex.kitchen, **kwargs)
+    assert named in str(e.value)
+
+
+def test_check_paths_are_type_checked() -> None:
+    with pytest.raises(TypeError, match="paths must be a path or an iterable of paths"):
+        foon.check(5)  # type: ignore[arg-type]
+
+
+def test_rate_tables_in_code_follow_the_rate_file_rule() -> None:
+    """Motion names given in code are trimmed and lower-cased as a rate file's are, so they
+    match the FOON's (lower-cased) motions; two spellings of one motion are one motion."""
+    ex = foon.example()
+    shouting = {m.upper() + " ": r for m, r in ex.motions.items()}
+    assert dict(foon.MotionRates(shouting)) == dict(ex.motions)
+    a = ex.foon.plan(ex.goals[0], ex.kitchen, "greedy-success", motions=shouting)
+    b = ex.foon.plan(ex.goals[0], ex.kitchen, "greedy-success", motions=ex.motions)
+    assert a.units == b.units and a.success == b.success
+    with pytest.raises(ValueError, match="has two rates"):
+        foon.MotionRates({"mix": 0.5, "Mix": 0.6})
+    assert len(foon.MotionRates({"mix": 0.5, "Mix ": 0.5})) == 1

@@ -306,7 +306,8 @@ class MotionRates(Mapping[str, float]):
 
     def __init__(self, rates: Mapping[str, float] | Iterable[tuple[str, float]] = ()) -> None:
         pairs = rates.items() if isinstance(rates, Mapping) else rates
-        self._rates: dict[str, float] = dict(_foon.check_rates(list(pairs)))
+        # Names follow the rate file's rule (trimmed, lower-cased), checked by the core.
+        self._rates: dict[str, float] = dict(_foon.check_rates(pairs))
 
     @classmethod
     def load(cls, path: PathLike) -> MotionRates:
@@ -356,7 +357,16 @@ def _as_utensils(u: UtensilsLike) -> list[str]:
         return []
     if isinstance(u, _PATH_TYPES):
         return load_utensils(u)
-    return [str(x) for x in u]
+    try:
+        items = list(u)
+    except TypeError:
+        raise TypeError(
+            f"utensils must be a path or an iterable of str, not {type(u).__name__}"
+        ) from None
+    for i, x in enumerate(items):
+        if not isinstance(x, str):
+            raise TypeError(f"utensils[{i}] must be a str, not {type(x).__name__}")
+    return items
 
 
 class FunctionalUnit:
@@ -1128,7 +1138,12 @@ def check(
     but never produced nor in it; with motion rates, motions without a rate (and, for a rate
     file, its own faults, such as a motion with two rates). Files of object blocks (kitchens,
     goals) are checked as such."""
-    ps = [paths] if isinstance(paths, _PATH_TYPES) else list(paths)
+    try:
+        ps = [paths] if isinstance(paths, _PATH_TYPES) else list(paths)
+    except TypeError:
+        raise TypeError(
+            f"paths must be a path or an iterable of paths, not {type(paths).__name__}"
+        ) from None
     # A rate file is read by the linter itself, so its own faults are findings too.
     rates_file = motions if isinstance(motions, _PATH_TYPES) else None
     rates = None if rates_file is not None else _as_rates(motions)

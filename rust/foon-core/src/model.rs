@@ -168,9 +168,16 @@ pub struct MotionRates {
 impl MotionRates {
     /// Rates from `(motion, rate)` pairs. Every rate is checked ([`check_rate`]); the same
     /// motion twice with the same rate is kept once, with two different rates it is an error.
+    /// A table from (motion, rate) pairs. Motion names follow the rate file's rule
+    /// ([`MotionRates::motion_name`]), so a table built in code matches the FOON's motions
+    /// exactly as one read from a file does.
     pub fn from_pairs(pairs: impl IntoIterator<Item = (String, f64)>) -> Result<Self> {
         let mut r = Self::default();
         for (m, v) in pairs {
+            let m = Self::motion_name(&m);
+            if m.is_empty() {
+                return Err(Error::Invalid("empty motion name".into()));
+            }
             check_rate(Some(&m), v)?;
             if let Err(old) = r.insert(m, v) {
                 let (m, first) = &r.entries[old];
@@ -180,6 +187,12 @@ impl MotionRates {
             }
         }
         Ok(r)
+    }
+
+    /// A motion name as rate tables key it: trimmed and lower-cased (the FOON's motion lines
+    /// are lower-cased and right-stripped, so every motion of a FOON matches its entry).
+    pub fn motion_name(name: &str) -> String {
+        name.trim().to_lowercase()
     }
 
     /// Adds a rate; a motion already given with another rate is left as it is and the

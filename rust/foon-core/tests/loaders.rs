@@ -689,3 +689,13 @@ fn devices_are_refused_rather_than_read_without_end() {
     assert!(load_utensils(zero).is_err());
     assert!(load_objects(zero, foon_core::InputKind::Kitchen).is_err());
 }
+
+#[test]
+fn rate_tables_built_in_code_name_motions_as_rate_files_do() {
+    let r = MotionRates::from_pairs([("Mix ".to_owned(), 0.5), ("pour".to_owned(), 0.25)]).unwrap();
+    assert_eq!(r.get("mix"), Some(0.5));
+    let e =
+        MotionRates::from_pairs([("mix".to_owned(), 0.5), ("MIX".to_owned(), 0.6)]).unwrap_err();
+    assert!(e.to_string().contains("two rates"), "{e}");
+    assert!(MotionRates::from_pairs([(" ".to_owned(), 0.5)]).is_err());
+}

@@ -141,8 +141,8 @@ pub(crate) fn threads_arg(v: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize
     }
 }
 
-/// A `str` field of an object.
-fn str_field(field: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
+/// A `str` argument or field (`TypeError` naming it otherwise).
+pub(crate) fn str_field(field: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
     match v.cast::<PyString>() {
         Ok(s) => Ok(s.to_str()?.to_owned()),
         Err(_) => Err(PyTypeError::new_err(format!(
@@ -154,7 +154,7 @@ fn str_field(field: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
 
 /// A list-of-strings field of an object: any sequence (or iterable) of `str`, but not a `str`
 /// itself (which would be read as its characters).
-fn str_list_field(field: &str, v: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
+pub(crate) fn str_list_field(field: &str, v: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
     let expected = || format!("{field} must be a sequence of str");
     if v.is_instance_of::<PyString>() || v.is_instance_of::<PyBytes>() {
         return Err(PyTypeError::new_err(format!(
@@ -295,4 +295,41 @@ pub(crate) fn spec_of(t: ObjTuple) -> ObjectSpec {
 
 pub(crate) fn tuple_of(s: ObjectSpec) -> ObjTuple {
     (s.label, s.states, s.ingredients, s.container)
+}
+
+/// A rate argument: a real number (`int` or `float`, not `bool` nor `str`).
+pub(crate) fn rate_arg(name: &str, v: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let ok = !v.is_instance_of::<PyBool>()
+        && (v.is_instance_of::<pyo3::types::PyFloat>() || v.is_instance_of::<pyo3::types::PyInt>());
+    if !ok {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be a number between 0 and 1, not {}",
+            type_name(v)
+        )));
+    }
+    v.extract::<f64>()
+}
+
+/// Motion rates given as (motion, rate) pairs: each motion a `str`, each rate a number.
+pub(crate) fn rate_pairs_arg(name: &str, v: &Bound<'_, PyAny>) -> PyResult<Vec<(String, f64)>> {
+    let Ok(iter) = v.try_iter() else {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be (motion, rate) pairs, not {}",
+            type_name(v)
+        )));
+    };
+    let mut out = Vec::new();
+    for item in iter {
+        let item = item?;
+        let pair: (Bound<'_, PyAny>, Bound<'_, PyAny>) = item.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "{name} must be (motion, rate) pairs, not {}",
+                type_name(&item)
+            ))
+        })?;
+        let motion = str_field(&format!("a motion of {name}"), &pair.0)?;
+        let rate = rate_arg(&format!("the rate of '{motion}' in {name}"), &pair.1)?;
+        out.push((motion, rate));
+    }
+    Ok(out)
 }

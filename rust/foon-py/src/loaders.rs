@@ -8,8 +8,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::convert::{
-    ObjTuple, location, opt_path_arg, path_arg, spec_arg, spec_fields, spec_of_mapping, specs_of,
-    text_bytes, tuple_of,
+    ObjTuple, location, opt_path_arg, path_arg, rate_pairs_arg, spec_arg, spec_fields,
+    spec_of_mapping, specs_of, text_bytes, tuple_of,
 };
 use crate::errors::{PyFoonErr, enter};
 
@@ -136,7 +136,8 @@ pub(crate) fn parse_rates(
 
 /// Checks (motion, rate) pairs by the core's rule; returns them.
 #[pyfunction]
-pub(crate) fn check_rates(pairs: Vec<(String, f64)>) -> PyResult<Vec<(String, f64)>> {
+pub(crate) fn check_rates(pairs: &Bound<'_, PyAny>) -> PyResult<Vec<(String, f64)>> {
+    let pairs = rate_pairs_arg("motions", pairs)?;
     Ok(MotionRates::from_pairs(pairs).map_err(PyFoonErr)?.entries)
 }
 

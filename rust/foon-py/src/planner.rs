@@ -7,7 +7,9 @@ use foon_core::search::batch::{self, BatchOptions};
 use foon_core::{Context, Prepared, Query};
 use pyo3::prelude::*;
 
-use crate::convert::{ObjTuple, specs_of, threads_arg};
+use crate::convert::{
+    ObjTuple, rate_arg, rate_pairs_arg, specs_of, str_field, str_list_field, threads_arg,
+};
 use crate::errors::{PyFoonErr, enter};
 use crate::foon::{PyFoon, check_fu, check_object};
 use crate::plan::PyPlan;
@@ -29,11 +31,20 @@ impl PyPlanner {
         py: Python<'_>,
         foon: &PyFoon,
         kitchen: Vec<ObjTuple>,
-        utensils: Vec<String>,
-        rates: Option<Vec<(String, f64)>>,
-        default_rate: Option<f64>,
+        utensils: &Bound<'_, PyAny>,
+        rates: Option<&Bound<'_, PyAny>>,
+        default_rate: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let kitchen = specs_of(kitchen);
+        let utensils = str_list_field("utensils", utensils)?;
+        let rates = rates
+            .filter(|r| !r.is_none())
+            .map(|r| rate_pairs_arg("motions", r))
+            .transpose()?;
+        let default_rate = default_rate
+            .filter(|r| !r.is_none())
+            .map(|r| rate_arg("default_rate", r))
+            .transpose()?;
         let rates = rates
             .map(MotionRates::from_pairs)
             .transpose()
@@ -55,12 +66,15 @@ impl PyPlanner {
         &self,
         py: Python<'_>,
         goals: Vec<u32>,
-        method: &str,
-        compat: &str,
-        count: &str,
+        method: &Bound<'_, PyAny>,
+        compat: &Bound<'_, PyAny>,
+        count: &Bound<'_, PyAny>,
         threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Vec<Py<PyPlan>>> {
         let threads = threads_arg(threads)?;
+        let method = str_field("method", method)?;
+        let compat = str_field("compat", compat)?;
+        let count = str_field("count", count)?;
         let query = Query {
             method: method.parse().map_err(PyFoonErr)?,
             compat: compat.parse().map_err(PyFoonErr)?,

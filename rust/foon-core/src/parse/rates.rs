@@ -66,7 +66,7 @@ fn parse_rates_impl(
                 let shown: String = rate.trim().chars().take(20).collect();
                 err(col, format!("rate '{shown}' is not a number"))
             })?;
-            let name = name.to_lowercase();
+            let name = MotionRates::motion_name(name);
             check_rate(Some(&name), v).map_err(|e| err(col, e.to_string()))?;
             match r.insert(name, v) {
                 Ok(()) => {
