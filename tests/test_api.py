@@ -269,7 +269,7 @@ def test_reprs() -> None:
     k = [foon.Object("glass", ("empty",)), foon.Object("ice", container="bag")]
     p = f.planner(k, motions={"pour": 0.5}, utensils=["glass"])
     assert repr(p) == (
-        "<Planner <Foon 1 units, 4 objects>: 2 kitchen items, 1 utensils, 1 motion rates>"
+        "<Planner <Foon 1 unit, 4 objects>: 2 kitchen items, 1 utensil, 1 motion rate>"
     )
     t = p.plan(foon.Object("ice", container="glass"))
     assert repr(t) == "<TaskTree ice in [glass] by ids: solved, 1 unit>"

@@ -274,7 +274,7 @@ def test_check_skips_fifos_in_a_folder_and_rejects_a_fifo(tmp_path: Path) -> Non
     os.mkfifo(tmp_path / "pipe.txt")
     p = run_process(["check", str(tmp_path)])  # would hang forever opening the FIFO
     assert p.returncode == 0, p.stderr
-    assert p.stderr == "1 files checked: 0 errors, 0 warnings, 0 notes\n"
+    assert p.stderr == "1 file checked: 0 errors, 0 warnings, 0 notes\n"
     p = run_process(["check", str(tmp_path / "pipe.txt")])
     assert p.returncode == 1
     assert p.stderr == f"foon: error: {tmp_path / 'pipe.txt'}: not a regular file\n"
@@ -708,3 +708,15 @@ def test_version_and_help_on_a_full_disk_or_a_closed_pipe(argv: list[str]) -> No
         err = q.stderr.read()
         code = q.wait(timeout=60)
     assert code == 1 and err == ""
+
+
+def test_check_finds_foon_files_with_a_byte_order_mark_and_skips_look_alikes(
+    tmp_path: Path, capsys: Capture
+) -> None:
+    (tmp_path / "bom.txt").write_bytes(
+        b"\xef\xbb\xbfO\tonion\nS\twhole\nM\tchop\nO\tonion\nS\tchopped\n//\n"
+    )
+    (tmp_path / "notes.txt").write_text("Oops\tnot a FOON file\n")
+    code, _, err = run(["check", str(tmp_path)], capsys)
+    assert code == 0
+    assert err == "1 file checked (1 non-FOON .txt file skipped): 0 errors, 0 warnings, 0 notes\n"

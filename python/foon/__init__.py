@@ -80,6 +80,13 @@ METHODS: tuple[str, ...] = tuple(_foon.methods())
 
 _new = object.__new__
 _set = object.__setattr__
+
+
+def _count(n: int, one: str, many: str | None = None) -> str:
+    """``"1 unit"``, ``"2 units"``: a count with its noun in the right number."""
+    return f"{n} {one if n == 1 else (many or one + 's')}"
+
+
 _PATH_TYPES = (str, bytes, os.PathLike)
 
 
@@ -494,10 +501,7 @@ class TaskTree:
         state = "solved" if self.solved else "unsolved"
         n = len(self.units)
         course = " (course)" if self.compat == "course" else ""
-        return (
-            f"<TaskTree {self.goal} by {self.method}{course}: {state}, "
-            f"{n} unit{'' if n == 1 else 's'}>"
-        )
+        return f"<TaskTree {self.goal} by {self.method}{course}: {state}, {_count(n, 'unit')}>"
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (TaskTree, (self.foon, self._plan, self.planner))
@@ -817,7 +821,9 @@ class Foon:
     def __repr__(self) -> str:
         src = self._native.source
         where = f" from {src}" if src else ""
-        return f"<Foon {self.fu_count} units, {self.object_count} objects{where}>"
+        return (
+            f"<Foon {_count(self.fu_count, 'unit')}, {_count(self.object_count, 'object')}{where}>"
+        )
 
     def stats(self) -> dict[str, int]:
         """Counts: functional units, objects, produced objects, motions, ..."""
@@ -1008,10 +1014,10 @@ class Planner:
         )
 
     def __repr__(self) -> str:
-        rates = "no rates" if self.motions is None else f"{len(self.motions)} motion rates"
+        rates = "no rates" if self.motions is None else _count(len(self.motions), "motion rate")
         return (
-            f"<Planner {self.foon!r}: {len(self.kitchen)} kitchen items, "
-            f"{len(self.utensils)} utensils, {rates}>"
+            f"<Planner {self.foon!r}: {_count(len(self.kitchen), 'kitchen item')}, "
+            f"{_count(len(self.utensils), 'utensil')}, {rates}>"
         )
 
     def __reduce__(self) -> tuple[Any, ...]:

@@ -175,7 +175,7 @@ def summary(t: foon.TaskTree | NotFound) -> str:
     head = f"{t.goal}: "
     if not t.solved:
         return head + f"FAILED ({t.method}): {one_line(t.explanation())}"
-    parts = [f"{t.fu_count} unit{'s' if t.fu_count != 1 else ''}"]
+    parts = [foon._count(t.fu_count, "unit")]
     parts.append(f"height {t.height}" if t.height is not None else "not executable as listed")
     if t.success is not None:
         parts.append(f"success {100 * t.success:.2f}%")
@@ -560,7 +560,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         for pos, line in r.foreign_units:
             print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
         if r.valid:
-            print(f"{args.tree}: valid: {r.units} units make {goal}")
+            print(f"{args.tree}: valid: {foon._count(r.units, 'unit')} make {goal}")
     return 0 if r.valid else 1
 
 
@@ -568,14 +568,19 @@ def cmd_verify(args: argparse.Namespace) -> int:
 
 
 def _looks_like_foon(path: str) -> bool:
-    """A text file whose first meaningful line is an O, S or M line or `//`."""
+    """A text file whose first meaningful line (after a UTF-8 byte-order mark) is an ``O``,
+    ``S`` or ``M`` line (the letter, optional digits, then a TAB) or ``//``."""
     try:
         with open(path, "rb") as fh:
-            for raw in fh:
-                line = raw.strip()
+            for i, raw in enumerate(fh):
+                text = raw.removeprefix(b"\xef\xbb\xbf") if i == 0 else raw
+                line = text.strip()
                 if not line or line.startswith(b"#"):
                     continue
-                return line[:1] in (b"O", b"S", b"M") or line.startswith(b"//")
+                if line.startswith(b"//"):
+                    return True
+                kind = line.split(b"\t", 1)[0].strip()
+                return kind[:1] in (b"O", b"S", b"M") and (kind[1:] == b"" or kind[1:].isdigit())
     except OSError:
         return True  # let the checker report it
     return False
@@ -625,10 +630,11 @@ def cmd_check(args: argparse.Namespace) -> int:
         for f in findings:
             print(f)
         counts = {s: sum(f.severity == s for f in findings) for s in ("error", "warning", "note")}
-        note = f" ({skipped} non-FOON .txt files skipped)" if skipped else ""
+        note = f" ({foon._count(skipped, 'non-FOON .txt file')} skipped)" if skipped else ""
         print(
-            f"{len(files)} files checked{note}: {counts['error']} errors, "
-            f"{counts['warning']} warnings, {counts['note']} notes",
+            f"{foon._count(len(files), 'file')} checked{note}: "
+            f"{foon._count(counts['error'], 'error')}, {foon._count(counts['warning'], 'warning')}, "
+            f"{foon._count(counts['note'], 'note')}",
             file=sys.stderr,
         )
     return 1 if findings or problem else 0
