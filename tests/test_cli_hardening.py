@@ -369,7 +369,9 @@ def test_bad_goal_json_is_one_line(tmp_path: Path, command: str, text: str) -> N
     assert p.stderr.startswith("foon: error: --goal:1:") and p.stderr.count("\n") == 1, p.stderr
 
 
-@pytest.mark.parametrize("value", ["99999999999999999999", "0", "-3", "two", "1e3"])
+@pytest.mark.parametrize(
+    "value", ["99999999999999999999", "0", "-3", "two", "1e3", "1_000", "\u0663"]
+)
 @pytest.mark.parametrize("command", ["plan", "compare"])
 def test_threads_is_checked_by_the_parser(value: str, command: str) -> None:
     p = run_process([command, "--threads", value])

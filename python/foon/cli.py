@@ -55,6 +55,9 @@ def _threads(text: str) -> int:
     import argparse
 
     try:
+        # Plain ASCII digits only: int() would also take "1_000" and other scripts' digits.
+        if not (text.strip().lstrip("+-").isascii() and text.strip().lstrip("+-").isdigit()):
+            raise ValueError(text)
         n = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
