@@ -19,7 +19,8 @@ import foon
 TYPE_CHECKING = False
 if TYPE_CHECKING:
     import argparse
-    from collections.abc import Sequence
+    from collections.abc import Callable, Sequence
+    from typing import Any
 
     from _typeshed import SupportsWrite
 
@@ -79,12 +80,48 @@ def _folder(text: str) -> str:
 # --- parser ---------------------------------------------------------------------------------
 
 
-def build_parser() -> argparse.ArgumentParser:
+#: The commands, in the order ``foon --help`` lists them.
+COMMANDS = ("plan", "compare", "verify", "check", "stats")
+
+
+def _columns() -> int:
+    """The terminal width as ``shutil.get_terminal_size`` gives it (``COLUMNS``, else the
+    terminal of stdout, else 80), without importing shutil (and the compression modules it
+    brings) on every start."""
+    try:
+        return int(os.environ["COLUMNS"])
+    except (KeyError, ValueError):
+        pass
+    try:
+        return os.get_terminal_size(sys.__stdout__.fileno()).columns  # type: ignore[union-attr]
+    except (AttributeError, ValueError, OSError):
+        return 80
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser. With ``only`` (a command name, or ``""`` for none), only that
+    command's options are set up and the others are listed by name and help: that is all
+    that parsing one command line needs, and every start is shorter for it."""
     import argparse
+
+    class Formatter(argparse.HelpFormatter):
+        def __init__(
+            self,
+            prog: str,
+            indent_increment: int = 2,
+            max_help_position: int = 24,
+            width: int | None = None,
+        ) -> None:
+            width = _columns() - 2 if width is None else width
+            super().__init__(prog, indent_increment, max_help_position, width)
 
     class Parser(argparse.ArgumentParser):
         """argparse's parser, except that a help or usage text that cannot be written (a
         closed pipe, a full disk) is an error rather than silently lost."""
+
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            kwargs.setdefault("formatter_class", Formatter)
+            super().__init__(*args, **kwargs)
 
         def _print_message(self, message: str, file: SupportsWrite[str] | None = None) -> None:
             if message:
@@ -96,26 +133,65 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--version", action="version", version=f"foon {foon.__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
+    about = {
+        "plan": (
+            "retrieve task trees for goals",
+            (
+                "Retrieve task trees. With no --foon, plans the embedded example (its kitchen, "
+                "motion rates, utensils and default goal)."
+            ),
+        ),
+        "compare": (
+            "compare planning methods on a set of goals",
+            (
+                "One row per goal and method: units, height, overall success, distinct leaf "
+                "inputs, objects expanded, peak frontier, time; then a summary row per method."
+            ),
+        ),
+        "verify": (
+            "check a task-tree file",
+            (
+                "Checks a task-tree file (course text form) in the order written: every unit's "
+                "inputs must be in the kitchen or made by an earlier unit, and the goal made."
+            ),
+        ),
+        "check": (
+            "lint FOON files",
+            (
+                "Lists every error, warning and note of FOON files with file:line:column. Folders "
+                "are searched for FOON .txt files (regular files only). Exit code 0 clean, 1 "
+                "findings (or no FOON file found), 2 usage."
+            ),
+        ),
+        "stats": (
+            "counts of FOON files",
+            "Counts of each FOON file (--json: a list, one object per file).",
+        ),
+    }
+    for name in COMMANDS:
+        brief, description = about[name]
+        sp = sub.add_parser(name, help=brief, description=description)
+        sp.set_defaults(parser=sp)
+        if only is None or only == name:
+            _OPTIONS[name](sp)
+    return p
 
-    def common(sp: argparse.ArgumentParser, motions: bool = True) -> None:
-        sp.add_argument("--foon", metavar="FILE", help="FOON file (default: the example)")
-        sp.add_argument("--kitchen", metavar="FILE", help="kitchen: JSON list or object blocks")
-        if motions:
-            sp.add_argument("--motions", metavar="FILE", help="motion success rates")
-        sp.add_argument("--utensils", metavar="FILE", help="utensil list (container rule)")
-        g = sp.add_mutually_exclusive_group()
-        g.add_argument("--goals", metavar="FILE", help="goal file")
-        g.add_argument("--goal", metavar="JSON", help="one goal (or a list of goals) as JSON")
-        g.add_argument("--label", metavar="TEXT", help="a goal label that one object has")
-        sp.add_argument("--strict", action="store_true", help="turn load warnings into errors")
 
-    pl = sub.add_parser(
-        "plan",
-        help="retrieve task trees for goals",
-        description="Retrieve task trees. With no --foon, plans the embedded example "
-        "(its kitchen, motion rates, utensils and default goal).",
-    )
-    common(pl)
+def _common(sp: argparse.ArgumentParser, motions: bool = True) -> None:
+    sp.add_argument("--foon", metavar="FILE", help="FOON file (default: the example)")
+    sp.add_argument("--kitchen", metavar="FILE", help="kitchen: JSON list or object blocks")
+    if motions:
+        sp.add_argument("--motions", metavar="FILE", help="motion success rates")
+    sp.add_argument("--utensils", metavar="FILE", help="utensil list (container rule)")
+    g = sp.add_mutually_exclusive_group()
+    g.add_argument("--goals", metavar="FILE", help="goal file")
+    g.add_argument("--goal", metavar="JSON", help="one goal (or a list of goals) as JSON")
+    g.add_argument("--label", metavar="TEXT", help="a goal label that one object has")
+    sp.add_argument("--strict", action="store_true", help="turn load warnings into errors")
+
+
+def _plan_options(pl: argparse.ArgumentParser) -> None:
+    _common(pl)
     pl.add_argument("--method", default="ids", choices=foon.METHODS, help="default: ids")
     pl.add_argument(
         "--compat",
@@ -148,15 +224,10 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument(
         "-q", "--quiet", action="store_true", help="no summary lines for solved goals on stderr"
     )
-    pl.set_defaults(parser=pl)
 
-    cp = sub.add_parser(
-        "compare",
-        help="compare planning methods on a set of goals",
-        description="One row per goal and method: units, height, overall success, distinct "
-        "leaf inputs, objects expanded, peak frontier, time; then a summary row per method.",
-    )
-    common(cp)
+
+def _compare_options(cp: argparse.ArgumentParser) -> None:
+    _common(cp)
     cp.add_argument(
         "--methods",
         metavar="LIST",
@@ -171,26 +242,15 @@ def build_parser() -> argparse.ArgumentParser:
     fmt = cp.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="machine-readable output")
     fmt.add_argument("--csv", action="store_true", help="CSV output")
-    cp.set_defaults(parser=cp)
 
-    vp = sub.add_parser(
-        "verify",
-        help="check a task-tree file",
-        description="Checks a task-tree file (course text form) in the order written: every "
-        "unit's inputs must be in the kitchen or made by an earlier unit, and the goal made.",
-    )
-    common(vp, motions=False)
+
+def _verify_options(vp: argparse.ArgumentParser) -> None:
+    _common(vp, motions=False)
     vp.add_argument("tree", metavar="TREE_FILE")
     vp.add_argument("--json", action="store_true", help="machine-readable output")
-    vp.set_defaults(parser=vp)
 
-    ck = sub.add_parser(
-        "check",
-        help="lint FOON files",
-        description="Lists every error, warning and note of FOON files with file:line:column. "
-        "Folders are searched for FOON .txt files (regular files only). Exit code 0 clean, "
-        "1 findings (or no FOON file found), 2 usage.",
-    )
+
+def _check_options(ck: argparse.ArgumentParser) -> None:
     ck.add_argument("paths", nargs="+", metavar="FILE_OR_DIR")
     ck.add_argument(
         "--kitchen",
@@ -200,18 +260,21 @@ def build_parser() -> argparse.ArgumentParser:
     ck.add_argument("--motions", metavar="FILE", help="also report motions without a rate")
     ck.add_argument("--utensils", metavar="FILE", help="utensil list (container rule)")
     ck.add_argument("--json", action="store_true", help="machine-readable output")
-    ck.set_defaults(parser=ck)
 
-    st = sub.add_parser(
-        "stats",
-        help="counts of FOON files",
-        description="Counts of each FOON file (--json: a list, one object per file).",
-    )
+
+def _stats_options(st: argparse.ArgumentParser) -> None:
     st.add_argument("files", nargs="+", metavar="FILE")
     st.add_argument("--json", action="store_true", help="machine-readable output")
     st.add_argument("--strict", action="store_true", help="turn load warnings into errors")
-    st.set_defaults(parser=st)
-    return p
+
+
+_OPTIONS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
+    "plan": _plan_options,
+    "compare": _compare_options,
+    "verify": _verify_options,
+    "check": _check_options,
+    "stats": _stats_options,
+}
 
 
 def _quiet_closed_pipe() -> None:
@@ -258,7 +321,7 @@ def _run(argv: list[str]) -> int:
             error(e)
             return 1
         return 0
-    parser = build_parser()
+    parser = build_parser(argv[0] if argv and argv[0] in COMMANDS else "")
     try:
         try:
             args, extra = parser.parse_known_args(argv)
