@@ -471,34 +471,24 @@ def _cell(v: Any, kind: str = "") -> str:
 
 def _print_compare_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) -> None:
     head = ["goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms"]
+
+    def cells(first: str, r: dict[str, Any], last: str) -> list[str]:
+        metrics = [_cell(r["fu_count"]), _cell(r["height"]), _cell(r["success"], "pct")]
+        search = [_cell(r["leaf_inputs"]), _cell(r["expanded"]), _cell(r["peak_frontier"])]
+        return [first, r["method"], *metrics, *search, last]
+
     body = [
-        [
-            r["goal"][:48],
-            r["method"],
-            _cell(r["fu_count"]),
-            _cell(r["height"]),
-            _cell(r["success"], "pct"),
-            _cell(r["leaf_inputs"]),
-            _cell(r["expanded"]),
-            _cell(r["peak_frontier"]),
-            "not found" if r["error"] else _cell(r["seconds"], "ms"),
-        ]
+        cells(r["goal"][:48], r, "not found" if r["error"] else _cell(r["seconds"], "ms"))
         for r in rows
     ]
-    for srow in summary:
-        body.append(
-            [
-                f"(all: {srow['solved_count']}/{srow['goals']} solved; means, total ms)",
-                srow["method"],
-                _cell(srow["fu_count"]),
-                _cell(srow["height"]),
-                _cell(srow["success"], "pct"),
-                _cell(srow["leaf_inputs"]),
-                _cell(srow["expanded"]),
-                _cell(srow["peak_frontier"]),
-                _cell(srow["seconds_total"], "ms"),
-            ]
+    body += [
+        cells(
+            f"(all: {srow['solved_count']}/{srow['goals']} solved; means, total ms)",
+            srow,
+            _cell(srow["seconds_total"], "ms"),
         )
+        for srow in summary
+    ]
     widths = [max(len(x[i]) for x in [head, *body]) for i in range(len(head))]
 
     def fmt(cells: list[str]) -> str:
