@@ -722,3 +722,17 @@ def test_check_finds_foon_files_with_a_byte_order_mark_and_skips_look_alikes(
     code, _, err = run(["check", str(tmp_path)], capsys)
     assert code == 0
     assert err == "1 file checked (1 non-FOON .txt file skipped): 0 errors, 0 warnings, 0 notes\n"
+
+
+@pytest.mark.parametrize("spelling", ["trees/", "trees//", "deep/er/trees/"])
+def test_out_folder_with_a_trailing_separator_is_created(
+    tmp_path: Path, capsys: Capture, spelling: str
+) -> None:
+    ex = foon.example()
+    _, _, err = run(
+        ["plan", "--goals", str(ex.paths["goals"]), "--out", str(tmp_path) + "/" + spelling],
+        capsys,
+    )
+    assert "error" not in err, err
+    made = sorted(p.name for p in (tmp_path / spelling.rstrip("/")).iterdir())
+    assert made and all(name.endswith(".txt") for name in made)

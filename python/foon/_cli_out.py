@@ -129,7 +129,8 @@ class OutDir:
 
     def _make_folder(self) -> None:
         missing = []
-        d = self.folder
+        # "trees/" and "trees" are one folder: trailing separators are not a folder of their own.
+        d = self.folder.rstrip(os.sep + (os.altsep or "")) or self.folder
         while d and not os.path.lexists(d):
             missing.append(d)
             parent = os.path.dirname(d)
