@@ -2,7 +2,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, PoisonError};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use pyo3::exceptions::{
     PyException, PyFileNotFoundError, PyKeyboardInterrupt, PyOSError, PyPermissionError,
@@ -130,6 +130,49 @@ pub(crate) fn enter<T: Send>(
     if let Some(e) = raised {
         return Err(e);
     }
+    finish(outcome)
+}
+
+/// As [`enter`], for work that runs on one thread: it runs here, with the interpreter
+/// detached, and its `cancel` callback looks at Python's signals itself (at most every
+/// 20 ms), so a short call costs no thread. Used where the work never waits on other
+/// threads (a batch that runs on the calling thread alone).
+#[allow(clippy::redundant_closure_for_method_calls)] // `Python::check_signals` is not general enough
+pub(crate) fn enter_here<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
+) -> PyResult<T> {
+    let stop = AtomicBool::new(false);
+    let raised: Mutex<Option<PyErr>> = Mutex::new(None);
+    let last = Mutex::new(Instant::now());
+    let cancel = || {
+        if stop.load(Ordering::Relaxed) {
+            return true;
+        }
+        {
+            let mut at = last.lock().unwrap_or_else(PoisonError::into_inner);
+            if at.elapsed() < POLL {
+                return false;
+            }
+            *at = Instant::now();
+        }
+        if let Err(e) = Python::attach(|py| py.check_signals()) {
+            *raised.lock().unwrap_or_else(PoisonError::into_inner) = Some(e);
+            stop.store(true, Ordering::Relaxed);
+        }
+        stop.load(Ordering::Relaxed)
+    };
+    let outcome = py
+        .detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| Some(work(&cancel)))));
+    if let Some(e) = raised.into_inner().unwrap_or_else(PoisonError::into_inner) {
+        return Err(e);
+    }
+    finish(outcome)
+}
+
+/// The result of a call's work: core errors as typed exceptions, a panic as
+/// `PanicException`.
+fn finish<T>(outcome: std::thread::Result<Option<foon_core::Result<T>>>) -> PyResult<T> {
     match outcome {
         Ok(Some(r)) => r.map_err(|e| PyErr::from(PyFoonErr(e))),
         Ok(None) => Err(pyo3::panic::PanicException::new_err(

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use crate::convert::{
     ObjTuple, rate_arg, rate_pairs_arg, specs_of, str_field, str_list_field, threads_arg,
 };
-use crate::errors::{PyFoonErr, enter};
+use crate::errors::{Cancel, PyFoonErr, enter, enter_here};
 use crate::foon::{PyFoon, check_fu, check_object};
 use crate::plan::PyPlan;
 
@@ -84,11 +84,18 @@ impl PyPlanner {
             check_object(&self.foon, g)?;
         }
         let opts = BatchOptions::threads(threads);
-        opts.workers(goals.len()).map_err(PyFoonErr)?;
+        let workers = opts.workers(goals.len()).map_err(PyFoonErr)?;
         let (foon, prep) = (&*self.foon, &*self.prep);
-        let plans = enter(py, |cancel| {
+        let run = |cancel: Cancel<'_>| {
             batch::plan_batch(foon, prep, &goals, query, &opts.with_cancel(cancel))
-        })?;
+        };
+        // One worker runs on this thread (no thread to start for a single plan); several
+        // run on the pool while this thread watches for Ctrl-C.
+        let plans = if workers <= 1 {
+            enter_here(py, run)?
+        } else {
+            enter(py, run)?
+        };
         plans
             .into_iter()
             .map(|plan| Py::new(py, PyPlan { plan }))

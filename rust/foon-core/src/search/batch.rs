@@ -78,9 +78,13 @@ impl<'a> BatchOptions<'a> {
     }
 }
 
-/// The cap on worker threads: the available parallelism of this process (1 when unknown).
+/// The cap on worker threads: the available parallelism of this process (1 when unknown),
+/// read on first use.
 pub fn max_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    // Read once per process: on Linux it reads the cgroup files, which costs more than a
+    // small plan.
+    static CAP: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CAP.get_or_init(|| std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get))
 }
 
 fn env_threads() -> Result<Option<usize>> {
