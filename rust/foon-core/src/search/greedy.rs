@@ -461,3 +461,64 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         ..Plan::empty(goal, query)
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{IdMap, Memo, NONE, RECORDS_PER_OBJECT};
+
+    fn memo(n: usize) -> Memo {
+        Memo {
+            head: IdMap::new(n, (NONE, NONE, 0), n),
+            records: Vec::new(),
+            arena: Vec::new(),
+            garbage: 0,
+            touched: Vec::new(),
+        }
+    }
+
+    fn chain(m: &Memo, o: u32) -> Vec<Vec<u32>> {
+        let (_, mut r, _) = m.head.get(o);
+        let mut out = Vec::new();
+        while r != NONE {
+            let rec = &m.records[r as usize];
+            out.push(m.arena[rec.start..rec.end].to_vec());
+            r = rec.next;
+        }
+        out
+    }
+
+    /// An object's records were one unbounded list, scanned in full by every look-up: at most
+    /// `RECORDS_PER_OBJECT` are kept (the newest), through compactions, in order.
+    #[test]
+    fn records_per_object_are_capped_newest_first() {
+        let n = 4000;
+        let mut m = memo(n);
+        let mut depth = IdMap::new(n, NONE, n);
+        for d in 0..3000u32 {
+            m.record(1, 7, &[d, d + 1]);
+            m.record(2, 7, &[d]);
+        }
+        assert!(m.arena.len() < 2 * 4096 + 64, "arena {}", m.arena.len());
+        let keep = RECORDS_PER_OBJECT;
+        let c1 = chain(&m, 1);
+        assert_eq!(c1.len(), keep as usize);
+        assert_eq!(c1[0], [2999, 3000]);
+        assert_eq!(c1[keep as usize - 1], [3000 - keep, 3001 - keep]);
+        assert_eq!(chain(&m, 2)[0], [2999]);
+        // A kept record applies when its dependencies are on the path; a replaced one no more.
+        depth.set(2990, 1);
+        depth.set(2991, 2);
+        assert!(m.find(1, 7, &depth).is_some());
+        assert!(m.find(1, 8, &depth).is_none());
+        let mut old = IdMap::new(n, NONE, n);
+        old.set(5, 1);
+        old.set(6, 2);
+        assert!(m.find(1, 7, &old).is_none());
+        // A new epoch (a choice) forgets them all.
+        m.new_epoch();
+        assert!(m.find(1, 8, &depth).is_none());
+        m.record(1, 8, &[2990]);
+        assert_eq!(chain(&m, 1), [[2990]]);
+        assert!(m.find(1, 8, &depth).is_some());
+    }
+}
