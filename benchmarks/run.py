@@ -30,9 +30,11 @@ import foon_reference as ref
 from workloads import (
     can_measure_memory,
     chain_text,
+    expo_units,
     ladder_kitchen,
     ladder_text,
     load_memory,
+    units_text,
 )
 
 
@@ -224,29 +226,39 @@ LADDER_CASES: list[tuple[str, str | None]] = [
     ("optimal-success", None), ("optimal-units", None), ("optimal-inputs", None)]  # fmt: skip
 
 
+LADDER_SHAPES: list[tuple[str, Callable[[int], str]]] = [
+    ("A ladder (two rungs a level, each made in two ways; the last level needs the goal)",
+     lambda n: ladder_text(n, objects=2)),
+    ("A ladder on which every path fails differently (`expo_units`: dead regions)",
+     lambda n: units_text(expo_units(n)))]  # fmt: skip
+
+
 def bench_ladder(sizes: list[int], repeat: int, methods: list[str] | None = None) -> None:
-    """The ladder of tests/workloads.py with two rungs a level (each made in two ways from both
-    rungs of the next level, the last level needing the dish, which is on the path; the dish
-    made last from kitchen items): plan the dish with every method. `expanded` is the number of
-    objects the search expanded; a search that forgot its failures expanded 2 ** levels."""
+    """Two adversarial shapes of tests/workloads.py, planned for the dish with every method:
+    the ladder with two rungs a level (each made in two ways from both rungs of the next level,
+    the last level needing the dish, which is on the path; the dish made last from kitchen
+    items), and `expo_units` (the bottom rung made from any `a` of the path or from the dish:
+    every path fails with another set of dependencies). `expanded` is the number of objects the
+    search expanded; a search that forgot its failures expanded 2 ** levels on the first, and
+    one that only remembers them 2 ** (levels + 2) - 2 on the second."""
     kitchen = [foon.Object(label, (state,)) for label, state in ladder_kitchen(2)]
     cases = [c for c in LADDER_CASES if methods is None or c[0] in methods]
-    print("\n### A ladder (two rungs a level, each made in two ways; the last level needs the "
-          "goal)\n")  # fmt: skip
-    print("| levels | units | " + " | ".join(
-        f"{m}{' (course)' if c else ''}" for m, c in cases) + " |")  # fmt: skip
-    print("|---:|---:|" + "---:|" * len(cases))
-    for n in sizes:
-        f = foon.Foon.from_text(ladder_text(n, objects=2))
-        planner = f.planner(kitchen, default_rate=0.5)
-        goal = f.goal_id(foon.Object("dish", ("done",)))
-        cells = []
-        for method, compat in cases:
-            t = timeit(partial(planner.plan, goal, method, compat=compat), repeat)  # type: ignore[arg-type]
-            tree = planner.plan(goal, method, compat=compat)  # type: ignore[arg-type]
-            assert tree.solved
-            cells.append(f"{t * 1e6:,.1f} µs ({tree.expanded:,})")
-        print(f"| {n:,} | {f.fu_count:,} | " + " | ".join(cells) + " |")
+    for title, text_of in LADDER_SHAPES:
+        print(f"\n### {title}\n")
+        print("| levels | units | " + " | ".join(
+            f"{m}{' (course)' if c else ''}" for m, c in cases) + " |")  # fmt: skip
+        print("|---:|---:|" + "---:|" * len(cases))
+        for n in sizes:
+            f = foon.Foon.from_text(text_of(n))
+            planner = f.planner(kitchen, default_rate=0.5)
+            goal = f.goal_id(foon.Object("dish", ("done",)))
+            cells = []
+            for method, compat in cases:
+                t = timeit(partial(planner.plan, goal, method, compat=compat), repeat)  # type: ignore[arg-type]
+                tree = planner.plan(goal, method, compat=compat)  # type: ignore[arg-type]
+                assert tree.solved, (method, n)
+                cells.append(f"{t * 1e6:,.1f} µs ({tree.expanded:,})")
+            print(f"| {n:,} | {f.fu_count:,} | " + " | ".join(cells) + " |")
 
 
 def container_text(n: int, held: bool) -> str:

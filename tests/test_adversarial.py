@@ -5,7 +5,9 @@ in two or three ways from the next rung, the bottom rung needing an object on th
 deep alternations and on cycles back to the middle of the path. The sound greedy methods
 remember failures (docs/METHODS.md, "Remembered failures"); these tests check that
 
-- they stay polynomial on such shapes (the ``expanded`` count, not a time), and
+- they stay polynomial on such shapes (the ``expanded`` count, not a time), including one on
+  which every path gives a failure another set of dependencies (``expo_units``: the dead
+  region is pruned, docs/METHODS.md, "Dead regions"), and
 - every method gives exactly the reference's trees (the reference keeps the plain
   definition) on fixed ladders of the sizes the reference can run and on generated
   adversarial FOONs: ladders of width 2 and 3 and random depth, alternations, cycles back to
@@ -27,6 +29,7 @@ from workloads import (
     LADDER_GOAL,
     Unit,
     alternation_units,
+    expo_units,
     graph_units,
     ladder_kitchen,
     ladder_units,
@@ -100,6 +103,23 @@ def test_deep_ladders_plan_with_every_method() -> None:
             assert tree.expanded < 10 * f.fu_count, method
 
 
+@pytest.mark.parametrize("levels", [12, 20, 200])
+@pytest.mark.parametrize("chain", [0, 3])
+@pytest.mark.parametrize("method", ["greedy-success", "greedy-inputs"])
+def test_greedy_is_polynomial_when_every_path_fails_differently(
+    levels: int, chain: int, method: str
+) -> None:
+    """Every path gave the bottom rung another set of dependencies, so no remembered failure
+    applied: 2 ** (levels + 2) - 2 expansions (16 levels took 35 s)."""
+    f = foon.Foon.from_text(units_text(expo_units(levels, chain)))
+    kitchen = rust_kitchen(kitchen_of(2))
+    tree = f.plan(foon.Object(*GOAL), kitchen, method, motions=RATES)
+    assert tree.solved
+    # The dish's plain unit, or the chain to it (its first unit is the dish's).
+    assert len(tree.units) == (1 if chain == 0 else chain + 1)
+    assert tree.expanded < 50 * f.fu_count, (levels, tree.expanded)
+
+
 # --------------------------------------------------------------------------------------------
 # The same trees as the plain definition
 # --------------------------------------------------------------------------------------------
@@ -128,6 +148,16 @@ def test_cycles_back_to_the_path_agree_with_the_reference(levels: int, back_to: 
 @pytest.mark.parametrize("levels", [1, 3, 7])
 def test_alternations_agree_with_the_reference(levels: int) -> None:
     agree_with_reference(units_text(alternation_units(levels)), kitchen_of(2), RATES)
+
+
+@pytest.mark.parametrize("levels", [1, 2, 5, 8, 10, 12])
+def test_dead_regions_agree_with_the_reference(levels: int) -> None:
+    agree_with_reference(units_text(expo_units(levels)), kitchen_of(2), RATES)
+
+
+@pytest.mark.parametrize(("levels", "chain"), [(7, 1), (9, 3)])
+def test_dead_regions_next_to_live_ones_agree_with_the_reference(levels: int, chain: int) -> None:
+    agree_with_reference(units_text(expo_units(levels, chain)), kitchen_of(2), RATES)
 
 
 #: Graphs (see ``workloads.graph_units``; node 0 is the kitchen) on which the search, with no
@@ -182,14 +212,17 @@ MOTIONS = ("mix", "stir", "chop")
 
 @st.composite
 def adversarial_foons(draw: st.DrawFn) -> tuple[str, int, dict[str, float]]:
-    """(text, width, rates): a ladder, a cycle back to the path, an alternation or a ladder
-    with many producers of the dish, then perturbed: duplicate units, self-loops (a unit whose
+    """(text, width, rates): a ladder, a cycle back to the path, an alternation, a ladder
+    with many producers of the dish or the shape of ``expo_units`` (dead regions, with or
+    without a live chain next to them), then perturbed: duplicate units, self-loops (a unit whose
     output is one of its inputs), extra ways to make some rungs from the kitchen, units moved
     (which changes the FU indices the ties go to) and random motions with random rates."""
-    shape = draw(st.sampled_from(("ladder", "cycle", "alternation", "producers")))
-    width = draw(st.integers(2, 3))
+    shape = draw(st.sampled_from(("ladder", "cycle", "alternation", "producers", "expo")))
+    width = 2 if shape == "expo" else draw(st.integers(2, 3))
     levels = draw(st.integers(1, 9 if width == 2 else 5))
-    if shape == "ladder":
+    if shape == "expo":
+        units = expo_units(levels, draw(st.integers(0, 3), label="chain"))
+    elif shape == "ladder":
         units = ladder_units(levels, width, objects=draw(st.integers(1, 2)))
     elif shape == "cycle":
         units = ladder_units(levels, width, back_to=draw(st.integers(1, levels)))

@@ -3,7 +3,8 @@
 - :func:`chain_text`: a chain of units, each needing the previous one's output, so the last
   object needs all of them (the deepest possible tree, and every object distinct).
 - :func:`ladder_text` and friends: FOONs on which a search that forgets its failures retries
-  every combination (ladders, alternations, cycles back to the path, many producers).
+  every combination (ladders, alternations, cycles back to the path, many producers), and
+  :func:`expo_units`, on which a memory of failures keyed by the path never applies.
 - :func:`load_memory`: the index size and the peak memory of loading a file, measured in a
   fresh interpreter.
 """
@@ -105,6 +106,36 @@ def alternation_units(levels: int, width: int = 2) -> list[Unit]:
         below = ("a", str(i + 1)) if i < levels else LADDER_GOAL
         units += [((below, k[j]), "mix", (("b", str(i)),)) for j in range(width)]
     units.append(((k[0], k[1 % len(k)]), "mix", (LADDER_GOAL,)))
+    return units
+
+
+def expo_units(levels: int, chain: int = 0) -> list[Unit]:
+    """A ladder on which every path fails with another set of dependencies: the dish is made
+    first from rung ``r1``; rung ``r{i}`` from ``a{i}`` or ``b{i}``, each made from rung
+    ``r{i+1}``; the bottom rung from any ``a{j}`` (on the path when rung ``j`` was made from it)
+    or from the dish (always on the path). A memory of failures keyed by the path never applies
+    again (the plain search expands ``2 ** (levels + 2) - 2`` objects), but no object below the
+    dish can lead to a choice. With ``chain``, the dish can also be made, before the kitchen
+    way, from ``c1``, made from ``c2``, ..., ``c{chain}`` from kitchen items (a live region next
+    to the dead one)."""
+    k0, k1 = ladder_kitchen(1)
+
+    def r(i: int) -> Item:
+        return ("rung", f"r{i}")
+
+    units: list[Unit] = [((r(1), k0), "mix", (LADDER_GOAL,))]
+    for i in range(1, levels + 1):
+        a, b = ("a", f"a{i}"), ("b", f"b{i}")
+        units += [((a, k0), "mix", (r(i),)), ((b, k1), "mix", (r(i),)),
+                  ((r(i + 1), k0), "mix", (a,)), ((r(i + 1), k1), "mix", (b,))]  # fmt: skip
+    units += [((("a", f"a{i}"), k0), "mix", (r(levels + 1),)) for i in range(1, levels + 1)]
+    units.append(((LADDER_GOAL, k0), "mix", (r(levels + 1),)))
+    if chain:
+        c = [("c", f"c{i}") for i in range(chain + 1)]
+        units.append(((c[1], k1), "mix", (LADDER_GOAL,)))
+        units += [((c[i + 1], k0), "mix", (c[i],)) for i in range(1, chain)]
+        units.append(((k1, k0), "mix", (c[chain],)))
+    units.append(((k0, k1), "mix", (LADDER_GOAL,)))
     return units
 
 

@@ -209,6 +209,59 @@ fn ladder_text(levels: usize, width: usize, back_to: usize, rotate: usize) -> St
     units.concat()
 }
 
+/// The shape of `expo_units` in `tests/workloads.py` (every path gives the bottom rung another
+/// set of dependencies; no object below the dish can lead to a choice), with a chain of `chain`
+/// objects `c{i}` from the kitchen to the dish (so that the pruning must keep a live region),
+/// plus `extra` units (an output and one to three inputs, indices into the shape's objects and
+/// the two kitchen items), its units rotated left by `rotate`.
+fn expo_text(levels: usize, chain: usize, extra: &[(usize, Vec<usize>)], rotate: usize) -> String {
+    let o = |l: &str, s: String| format!("O\t{l}\nS\t{s}\n");
+    let r = |i: usize| o("rung", format!("r{i}"));
+    let a = |i: usize| o("a", format!("a{i}"));
+    let b = |i: usize| o("b", format!("b{i}"));
+    let (k0, k1) = (o("k", "k0".into()), o("k", "k1".into()));
+    let dish = o("dish", "done".into());
+    let u = |ins: &[&String], out: &String| {
+        let ins: String = ins.iter().map(|s| s.as_str()).collect();
+        format!("{ins}M\tmix\n{out}//\n")
+    };
+    let mut units = vec![u(&[&r(1), &k0], &dish)];
+    for i in 1..=levels {
+        units.push(u(&[&a(i), &k0], &r(i)));
+        units.push(u(&[&b(i), &k1], &r(i)));
+        units.push(u(&[&r(i + 1), &k0], &a(i)));
+        units.push(u(&[&r(i + 1), &k1], &b(i)));
+    }
+    for i in 1..=levels {
+        units.push(u(&[&a(i), &k0], &r(levels + 1)));
+    }
+    units.push(u(&[&dish, &k0], &r(levels + 1)));
+    let c = |i: usize| o("c", format!("c{i}"));
+    if chain > 0 {
+        units.push(u(&[&c(1), &k1], &dish));
+        for i in 1..chain {
+            units.push(u(&[&c(i + 1), &k0], &c(i)));
+        }
+        units.push(u(&[&k1, &k0], &c(chain)));
+    }
+    units.push(u(&[&k0, &k1], &dish));
+    // Objects for the extra units: the dish, the rungs, the a's, b's and c's, then the kitchen.
+    let mut objs = vec![dish.clone()];
+    objs.extend((1..=levels + 1).map(r));
+    objs.extend((1..=levels).map(a));
+    objs.extend((1..=levels).map(b));
+    objs.extend((1..=chain).map(c));
+    let made = objs.len();
+    objs.extend([k0, k1]);
+    for (out, ins) in extra {
+        let ins: Vec<&String> = ins.iter().map(|&i| &objs[i % objs.len()]).collect();
+        units.push(u(&ins, &objs[out % made]));
+    }
+    let n = units.len();
+    units.rotate_left(rotate % n);
+    units.concat()
+}
+
 /// A small dense graph as a FOON: node `i` is `n i`, made from each input list of
 /// `producers[i]` (node 0, `n 0`, is the kitchen; its producers are dropped).
 fn graph_text(producers: &[Vec<Vec<usize>>]) -> String {
@@ -363,6 +416,15 @@ proptest! {
         let text = graph_text(&producers);
         let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
         let kmask: Vec<bool> = (0..foon.object_count() as u32).map(|o| foon.text(foon.states(o)[0]) == "0").collect();
+        assert_greedy_is_plain(&text, &kmask)?;
+    }
+
+    #[test]
+    fn greedy_gives_the_plain_definitions_trees_on_dead_regions(levels in 1..11usize, chain in 0..4usize, extra in prop::collection::vec((0..64usize, prop::collection::vec(0..64usize, 1..4)), 0..4), rotate in 0..80usize) {
+        // Deep enough for the dead region to be computed and pruned (over 256 expansions).
+        let text = expo_text(levels, chain, &extra, rotate);
+        let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+        let kmask: Vec<bool> = (0..foon.object_count() as u32).map(|o| foon.label_text(o) == "k").collect();
         assert_greedy_is_plain(&text, &kmask)?;
     }
 

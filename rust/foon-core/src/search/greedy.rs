@@ -8,8 +8,14 @@
 //! recorded with its epoch and its *dependencies*: the objects of the path outside the call
 //! whose presence on the path made it skip a producer somewhere inside the call. While the
 //! epoch is the same and those objects are all on the path, a new call for `o` would fail the
-//! same way without a side effect, so it is answered from the record. The trees are those of
-//! the plain definition.
+//! same way without a side effect, so it is answered from the record. At most
+//! [`RECORDS_PER_OBJECT`] records are kept per object and epoch (the newest), so a look-up
+//! costs a bounded number of dependency tests.
+//!
+//! Dead regions are pruned (`docs/METHODS.md`, "Dead regions"): once an epoch has expanded
+//! many objects, the objects that cannot lead to a choice in it, whatever the path, are
+//! computed once for the epoch ([`Live`]); such an object fails at once, with no dependency.
+//! The trees are those of the plain definition.
 
 use super::scratch::IdMap;
 use super::{Context, Plan, Query, heuristic, tree};
@@ -32,26 +38,36 @@ struct Frame {
     deps_clean: usize,
 }
 
-/// A remembered failure of one object: the epoch it happened in, its dependencies
-/// (`arena[start..end]`, sorted, distinct) and the previous record of the same object.
+/// A remembered failure of one object: its dependencies (`arena[start..end]`, sorted,
+/// distinct) and the previous (older) record of the same object in the same epoch.
 struct Record {
     start: usize,
     end: usize,
     next: u32,
 }
 
+/// The most records kept per object and epoch: a new failure beyond it replaces the oldest.
+/// Only the cost changes (a forgotten record may make a call be expanded again), never a
+/// result.
+const RECORDS_PER_OBJECT: u32 = 16;
+
 /// Remembered failures of the current epoch (all are forgotten when a choice is made).
 struct Memo {
-    /// Per object: (epoch, index of its latest record); stale when the epoch differs.
-    head: IdMap<(u32, u32)>,
+    /// Per object: (epoch, index of its newest record, number of its records); stale when the
+    /// epoch differs.
+    head: IdMap<(u32, u32, u32)>,
     records: Vec<Record>,
     arena: Vec<u32>,
+    /// Arena entries of replaced records (reclaimed by [`Memo::compact`]).
+    garbage: usize,
+    /// The objects with records in the current epoch.
+    touched: Vec<u32>,
 }
 
 impl Memo {
     /// A record of `o` in `epoch` whose dependencies are all on the path, if any.
     fn find(&self, o: u32, epoch: u32, depth: &IdMap<u32>) -> Option<(usize, usize)> {
-        let (e, mut r) = self.head.get(o);
+        let (e, mut r, _) = self.head.get(o);
         if e != epoch {
             return None;
         }
@@ -69,8 +85,13 @@ impl Memo {
     }
 
     fn record(&mut self, o: u32, epoch: u32, deps: &[u32]) {
-        let (e, r) = self.head.get(o);
-        let next = if e == epoch { r } else { NONE };
+        let (e, r, count) = self.head.get(o);
+        let (next, count) = if e == epoch {
+            (r, count)
+        } else {
+            self.touched.push(o);
+            (NONE, 0)
+        };
         let start = self.arena.len();
         self.arena.extend_from_slice(deps);
         self.records.push(Record {
@@ -78,13 +99,170 @@ impl Memo {
             end: self.arena.len(),
             next,
         });
-        self.head.set(o, (epoch, (self.records.len() - 1) as u32));
+        let newest = (self.records.len() - 1) as u32;
+        if count < RECORDS_PER_OBJECT {
+            self.head.set(o, (epoch, newest, count + 1));
+            return;
+        }
+        // Drop the oldest: the chain holds `RECORDS_PER_OBJECT` records after the new one.
+        self.head.set(o, (epoch, newest, count));
+        let mut last = newest;
+        for _ in 1..RECORDS_PER_OBJECT {
+            last = self.records[last as usize].next;
+        }
+        let oldest = std::mem::replace(&mut self.records[last as usize].next, NONE);
+        let rec = &self.records[oldest as usize];
+        self.garbage += rec.end - rec.start + 1;
+        if self.garbage > 4096 && 2 * self.garbage > self.arena.len() + self.records.len() {
+            self.compact(epoch);
+        }
+    }
+
+    /// Rebuilds the arena and the records without the replaced ones (same order), so that
+    /// memory stays proportional to the records kept.
+    fn compact(&mut self, epoch: u32) {
+        let mut records = Vec::new();
+        let mut arena = Vec::new();
+        let mut chain = Vec::new();
+        for &o in &self.touched {
+            let (e, mut r, count) = self.head.get(o);
+            debug_assert_eq!(e, epoch);
+            chain.clear();
+            while r != NONE {
+                chain.push(r);
+                r = self.records[r as usize].next;
+            }
+            let mut next = NONE;
+            for &r in chain.iter().rev() {
+                let rec = &self.records[r as usize];
+                let start = arena.len();
+                arena.extend_from_slice(&self.arena[rec.start..rec.end]);
+                records.push(Record {
+                    start,
+                    end: arena.len(),
+                    next,
+                });
+                next = (records.len() - 1) as u32;
+            }
+            self.head.set(o, (epoch, next, count));
+        }
+        self.records = records;
+        self.arena = arena;
+        self.garbage = 0;
     }
 
     /// A choice was made: every record is stale.
     fn new_epoch(&mut self) {
         self.records.clear();
         self.arena.clear();
+        self.touched.clear();
+        self.garbage = 0;
+    }
+}
+
+/// An epoch expands this many objects before its dead region is computed (and at least as many
+/// as the last computation's region held, which pays for the next one).
+const LIVE_AFTER: u64 = 256;
+
+/// The objects of the goal's region that can still lead to a choice in one epoch
+/// (`docs/METHODS.md`, "Dead regions").
+///
+/// Within an epoch, a call for `x` explores, for each producer `f` of `x` it does not skip, only
+/// `f`'s first needed input that is neither in the kitchen nor chosen (its *first open* input):
+/// if there is none, `f` succeeds and the epoch ends; if it is not derivable, `f` fails; if its
+/// call succeeds, the epoch ends. The *epoch graph* has an edge `x -> first_open(f)` for every
+/// producer `f` of an open derivable `x` that does not need `x` or the goal (always on the path)
+/// and whose first open input is derivable. `x` is *live* when it reaches, in that graph, an
+/// object with a producer that has no open needed input. Skips for the path only remove edges,
+/// so a call for an object that is not live fails on every path, without a side effect.
+struct Live {
+    /// Per object: the computation that reached it (a stamp) and whether it is live.
+    mark: IdMap<(u32, bool)>,
+    stamp: u32,
+    /// The epoch of the last computation (`NONE`: none yet).
+    epoch: u32,
+    /// Objects the last computation reached.
+    region: u64,
+    queue: Vec<u32>,
+    /// Edges of the epoch graph, as (to, from).
+    edges: Vec<(u32, u32)>,
+}
+
+impl Live {
+    /// Whether `x` is known not to be live in `epoch`.
+    fn dead(&self, x: u32, epoch: u32) -> bool {
+        self.epoch == epoch && self.mark.get(x) == (self.stamp, false)
+    }
+
+    /// Computes the live objects of the region the epoch graph reaches from `goal` (every call
+    /// of the epoch is for one of them).
+    fn compute(
+        &mut self,
+        ctx: &Context<'_>,
+        goal: u32,
+        choice: &IdMap<u32>,
+        epoch: u32,
+    ) -> Result<()> {
+        let ranks = ctx.ranks();
+        self.stamp += 1;
+        self.epoch = epoch;
+        let stamp = self.stamp;
+        self.queue.clear();
+        self.edges.clear();
+        let open = |y: u32| !ctx.in_kitchen(y) && choice.get(y) == NONE;
+        // Forward: the region, its edges, and the objects with a producer ready to run.
+        let mut ready = Vec::new();
+        self.mark.set(goal, (stamp, false));
+        self.queue.push(goal);
+        let mut i = 0;
+        while let Some(&x) = self.queue.get(i) {
+            i += 1;
+            if i % 4096 == 0 {
+                ctx.check_stop()?;
+            }
+            let mut is_ready = false;
+            for &f in ctx.foon.producers(x) {
+                let ins = ctx.needed(f);
+                if ins.iter().any(|&y| y == x || y == goal) {
+                    continue;
+                }
+                match ins.iter().copied().find(|&y| open(y)) {
+                    None => is_ready = true,
+                    Some(y) if ranks.is_derivable(y) => {
+                        self.edges.push((y, x));
+                        if self.mark.get(y).0 != stamp {
+                            self.mark.set(y, (stamp, false));
+                            self.queue.push(y);
+                        }
+                    }
+                    Some(_) => {}
+                }
+            }
+            if is_ready {
+                ready.push(x);
+            }
+        }
+        self.region = self.queue.len() as u64;
+        // Backward from the ready objects: everything that reaches one is live.
+        self.edges.sort_unstable();
+        self.queue.clear();
+        for x in ready {
+            self.mark.set(x, (stamp, true));
+            self.queue.push(x);
+        }
+        while let Some(y) = self.queue.pop() {
+            let from = self.edges.partition_point(|&(to, _)| to < y);
+            for &(to, x) in &self.edges[from..] {
+                if to != y {
+                    break;
+                }
+                if self.mark.get(x) != (stamp, true) {
+                    self.mark.set(x, (stamp, true));
+                    self.queue.push(x);
+                }
+            }
+        }
+        Ok(())
     }
 }
 
@@ -109,10 +287,24 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     // Position on the path (1 for the goal), NONE when not on it.
     let mut depth = ctx.id_map(n, NONE);
     let mut memo = Memo {
-        head: ctx.id_map(n, (NONE, NONE)),
+        head: ctx.id_map(n, (NONE, NONE, 0)),
         records: Vec::new(),
         arena: Vec::new(),
+        garbage: 0,
+        touched: Vec::new(),
     };
+    let mut live = Live {
+        mark: ctx.id_map(n, (0, false)),
+        stamp: 0,
+        epoch: NONE,
+        region: 0,
+        queue: Vec::new(),
+        edges: Vec::new(),
+    };
+    // Objects expanded in the current epoch, and how many it may expand before its dead
+    // region is computed.
+    let mut epoch_expanded = 0u64;
+    let mut live_after = LIVE_AFTER;
     let mut epoch = 0u32;
     let mut deps: Vec<u32> = Vec::new();
     let mut buf: Vec<u32> = Vec::new();
@@ -217,6 +409,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 let o = top.obj;
                 choice.set(o, f);
                 epoch += 1;
+                epoch_expanded = 0;
                 memo.new_epoch();
                 depth.set(o, NONE);
                 buf.truncate(a);
@@ -228,7 +421,14 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             let x = ins[top.input];
             if ctx.in_kitchen(x) || choice.get(x) != NONE {
                 top.input += 1;
-            } else if !ranks.is_derivable(x) {
+                continue;
+            }
+            if epoch_expanded >= live_after && live.epoch != epoch {
+                live.compute(ctx, goal, &choice, epoch)?;
+                live_after = LIVE_AFTER.max(live.region);
+            }
+            if !ranks.is_derivable(x) || live.dead(x, epoch) {
+                // `x` fails on every path of this epoch.
                 top.cand += 1;
                 top.input = 0;
                 top.checked = false;
@@ -244,6 +444,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             } else {
                 push(x, epoch, &mut stack, &mut buf, &deps, &mut depth)?;
                 expanded += 1;
+                epoch_expanded += 1;
                 peak = peak.max(stack.len());
                 if expanded % 4096 == 0 {
                     ctx.check_stop()?;
@@ -259,4 +460,65 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         peak_frontier: peak,
         ..Plan::empty(goal, query)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{IdMap, Memo, NONE, RECORDS_PER_OBJECT};
+
+    fn memo(n: usize) -> Memo {
+        Memo {
+            head: IdMap::new(n, (NONE, NONE, 0), n),
+            records: Vec::new(),
+            arena: Vec::new(),
+            garbage: 0,
+            touched: Vec::new(),
+        }
+    }
+
+    fn chain(m: &Memo, o: u32) -> Vec<Vec<u32>> {
+        let (_, mut r, _) = m.head.get(o);
+        let mut out = Vec::new();
+        while r != NONE {
+            let rec = &m.records[r as usize];
+            out.push(m.arena[rec.start..rec.end].to_vec());
+            r = rec.next;
+        }
+        out
+    }
+
+    /// An object's records were one unbounded list, scanned in full by every look-up: at most
+    /// `RECORDS_PER_OBJECT` are kept (the newest), through compactions, in order.
+    #[test]
+    fn records_per_object_are_capped_newest_first() {
+        let n = 4000;
+        let mut m = memo(n);
+        let mut depth = IdMap::new(n, NONE, n);
+        for d in 0..3000u32 {
+            m.record(1, 7, &[d, d + 1]);
+            m.record(2, 7, &[d]);
+        }
+        assert!(m.arena.len() < 2 * 4096 + 64, "arena {}", m.arena.len());
+        let keep = RECORDS_PER_OBJECT;
+        let c1 = chain(&m, 1);
+        assert_eq!(c1.len(), keep as usize);
+        assert_eq!(c1[0], [2999, 3000]);
+        assert_eq!(c1[keep as usize - 1], [3000 - keep, 3001 - keep]);
+        assert_eq!(chain(&m, 2)[0], [2999]);
+        // A kept record applies when its dependencies are on the path; a replaced one no more.
+        depth.set(2990, 1);
+        depth.set(2991, 2);
+        assert!(m.find(1, 7, &depth).is_some());
+        assert!(m.find(1, 8, &depth).is_none());
+        let mut old = IdMap::new(n, NONE, n);
+        old.set(5, 1);
+        old.set(6, 2);
+        assert!(m.find(1, 7, &old).is_none());
+        // A new epoch (a choice) forgets them all.
+        m.new_epoch();
+        assert!(m.find(1, 8, &depth).is_none());
+        m.record(1, 8, &[2990]);
+        assert_eq!(chain(&m, 1), [[2990]]);
+        assert!(m.find(1, 8, &depth).is_some());
+    }
 }
