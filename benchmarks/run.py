@@ -230,7 +230,9 @@ LADDER_SHAPES: list[tuple[str, Callable[[int], str]]] = [
     ("A ladder (two rungs a level, each made in two ways; the last level needs the goal)",
      lambda n: ladder_text(n, objects=2)),
     ("A ladder on which every path fails differently (`expo_units`: dead regions)",
-     lambda n: units_text(expo_units(n)))]  # fmt: skip
+     lambda n: units_text(expo_units(n))),
+    ("The same, with the only way out on the path (`expo_units(through_path=True)`: dead for the path)",
+     lambda n: units_text(expo_units(n, through_path=True)))]  # fmt: skip
 
 
 def bench_ladder(sizes: list[int], repeat: int, methods: list[str] | None = None) -> None:

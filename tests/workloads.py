@@ -109,7 +109,7 @@ def alternation_units(levels: int, width: int = 2) -> list[Unit]:
     return units
 
 
-def expo_units(levels: int, chain: int = 0) -> list[Unit]:
+def expo_units(levels: int, chain: int = 0, through_path: bool = False) -> list[Unit]:
     """A ladder on which every path fails with another set of dependencies: the dish is made
     first from rung ``r1``; rung ``r{i}`` from ``a{i}`` or ``b{i}``, each made from rung
     ``r{i+1}``; the bottom rung from any ``a{j}`` (on the path when rung ``j`` was made from it)
@@ -117,7 +117,10 @@ def expo_units(levels: int, chain: int = 0) -> list[Unit]:
     again (the plain search expands ``2 ** (levels + 2) - 2`` objects), but no object below the
     dish can lead to a choice. With ``chain``, the dish can also be made, before the kitchen
     way, from ``c1``, made from ``c2``, ..., ``c{chain}`` from kitchen items (a live region next
-    to the dead one)."""
+    to the dead one). With ``through_path``, each ``a{i}`` can also be made from rung ``r1``
+    and ``r1`` from kitchen items, both tried after the other ways: every object then reaches a
+    unit ready to run, but only through ``r1``, which is on the path below the dish whenever
+    the ladder is explored."""
     k0, k1 = ladder_kitchen(1)
 
     def r(i: int) -> Item:
@@ -135,6 +138,9 @@ def expo_units(levels: int, chain: int = 0) -> list[Unit]:
         units.append(((c[1], k1), "mix", (LADDER_GOAL,)))
         units += [((c[i + 1], k0), "mix", (c[i],)) for i in range(1, chain)]
         units.append(((k1, k0), "mix", (c[chain],)))
+    if through_path:
+        units += [((r(1), k1), "mix", (("a", f"a{i}"),)) for i in range(1, levels + 1)]
+        units.append(((k0, k1), "mix", (r(1),)))
     units.append(((k0, k1), "mix", (LADDER_GOAL,)))
     return units
 

@@ -36,6 +36,8 @@ struct Frame {
     deps_start: usize,
     /// Length of the segment after its last deduplication.
     deps_clean: usize,
+    /// The liveness computation whose path dependencies this frame has already taken.
+    live_stamp: u32,
 }
 
 /// A remembered failure of one object: its dependencies (`arena[start..end]`, sorted,
@@ -164,20 +166,28 @@ impl Memo {
 /// as the last computation's region held, which pays for the next one).
 const LIVE_AFTER: u64 = 256;
 
-/// The objects of the goal's region that can still lead to a choice in one epoch
+/// The objects that can still lead to a choice in one epoch, given the path
 /// (`docs/METHODS.md`, "Dead regions").
 ///
 /// Within an epoch, a call for `x` explores, for each producer `f` of `x` it does not skip, only
 /// `f`'s first needed input that is neither in the kitchen nor chosen (its *first open* input):
 /// if there is none, `f` succeeds and the epoch ends; if it is not derivable, `f` fails; if its
-/// call succeeds, the epoch ends. The *epoch graph* has an edge `x -> first_open(f)` for every
-/// producer `f` of an open derivable `x` that does not need `x` or the goal (always on the path)
-/// and whose first open input is derivable. `x` is *live* when it reaches, in that graph, an
-/// object with a producer that has no open needed input. Skips for the path only remove edges,
-/// so a call for an object that is not live fails on every path, without a side effect.
+/// call succeeds, the epoch ends. The *epoch graph* over a set B of objects on the path has an
+/// edge `x -> first_open(f)` for every producer `f` of an open derivable `x` that needs neither
+/// `x` nor an object of B, and whose first open input is derivable. `x` is *live* when it
+/// reaches, in that graph, an object with a producer that has no open needed input. Skips for
+/// the path only remove edges, so while every object of B that removed an edge (the
+/// *blockers*) is on the path, a call for an object that is not live fails, without a side
+/// effect. B is the path when the computation is made, and the graph is explored from the
+/// object of the top frame: every call below it is for an object it reaches.
 struct Live {
     /// Per object: the computation that reached it (a stamp) and whether it is live.
     mark: IdMap<(u32, bool)>,
+    /// Per object: the computation for which it is a blocker (a stamp).
+    blocker: IdMap<u32>,
+    blockers: Vec<u32>,
+    /// Blockers of the last computation that are not on the path now.
+    off_path: usize,
     stamp: u32,
     /// The epoch of the last computation (`NONE`: none yet).
     epoch: u32,
@@ -189,31 +199,53 @@ struct Live {
 }
 
 impl Live {
-    /// Whether `x` is known not to be live in `epoch`.
-    fn dead(&self, x: u32, epoch: u32) -> bool {
-        self.epoch == epoch && self.mark.get(x) == (self.stamp, false)
+    /// Whether the last computation holds now (same epoch, every blocker on the path).
+    fn holds(&self, epoch: u32) -> bool {
+        self.epoch == epoch && self.off_path == 0
     }
 
-    /// Computes the live objects of the region the epoch graph reaches from `goal` (every call
-    /// of the epoch is for one of them).
+    /// Whether `x` is known not to be live in `epoch` on the current path.
+    fn dead(&self, x: u32, epoch: u32) -> bool {
+        self.holds(epoch) && self.mark.get(x) == (self.stamp, false)
+    }
+
+    /// `o` leaves the path.
+    fn popped(&mut self, o: u32) {
+        if self.blocker.get(o) == self.stamp {
+            self.off_path += 1;
+        }
+    }
+
+    /// `o` comes on the path.
+    fn pushed(&mut self, o: u32) {
+        if self.blocker.get(o) == self.stamp && self.off_path > 0 {
+            self.off_path -= 1;
+        }
+    }
+
+    /// Computes the live objects that the epoch graph over the current path reaches from
+    /// `top` (the object of the top frame, on the path).
     fn compute(
         &mut self,
         ctx: &Context<'_>,
-        goal: u32,
+        top: u32,
         choice: &IdMap<u32>,
+        on_path: &dyn Fn(u32) -> bool,
         epoch: u32,
     ) -> Result<()> {
         let ranks = ctx.ranks();
         self.stamp += 1;
         self.epoch = epoch;
+        self.off_path = 0;
+        self.blockers.clear();
         let stamp = self.stamp;
         self.queue.clear();
         self.edges.clear();
         let open = |y: u32| !ctx.in_kitchen(y) && choice.get(y) == NONE;
         // Forward: the region, its edges, and the objects with a producer ready to run.
         let mut ready = Vec::new();
-        self.mark.set(goal, (stamp, false));
-        self.queue.push(goal);
+        self.mark.set(top, (stamp, false));
+        self.queue.push(top);
         let mut i = 0;
         while let Some(&x) = self.queue.get(i) {
             i += 1;
@@ -223,7 +255,14 @@ impl Live {
             let mut is_ready = false;
             for &f in ctx.foon.producers(x) {
                 let ins = ctx.needed(f);
-                if ins.iter().any(|&y| y == x || y == goal) {
+                if ins.contains(&x) {
+                    continue;
+                }
+                if let Some(&b) = ins.iter().find(|&&y| on_path(y)) {
+                    if self.blocker.get(b) != stamp {
+                        self.blocker.set(b, stamp);
+                        self.blockers.push(b);
+                    }
                     continue;
                 }
                 match ins.iter().copied().find(|&y| open(y)) {
@@ -293,14 +332,22 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         garbage: 0,
         touched: Vec::new(),
     };
-    let mut live = Live {
+    let new_live = || Live {
         mark: ctx.id_map(n, (0, false)),
+        blocker: ctx.id_map(n, 0),
+        blockers: Vec::new(),
+        off_path: 0,
         stamp: 0,
         epoch: NONE,
         region: 0,
         queue: Vec::new(),
         edges: Vec::new(),
     };
+    // `live` is computed from the goal with only the goal taken as on the path (it holds for
+    // the whole epoch); `near`, computed when that was not enough, from the top frame with
+    // the whole path (it holds while its blockers stay on the path).
+    let mut live = new_live();
+    let mut near = new_live();
     // Objects expanded in the current epoch, and how many it may expand before its dead
     // region is computed.
     let mut epoch_expanded = 0u64;
@@ -331,12 +378,15 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             epoch,
             deps_start: deps.len(),
             deps_clean: 0,
+            live_stamp: 0,
         });
         depth.set(o, stack.len() as u32);
         Ok(())
     };
     // The goal is derivable and not in the kitchen (the caller checked).
     push(goal, epoch, &mut stack, &mut buf, &deps, &mut depth)?;
+    // The objects of the stack's frames, bottom first (the path).
+    let mut path: Vec<u32> = vec![goal];
     expanded += 1;
     let mut child: Option<bool> = None;
     'frames: while let Some(top) = stack.last_mut() {
@@ -357,8 +407,11 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 // No producer works: fail.
                 let (o, from) = (top.obj, top.deps_start);
                 depth.set(o, NONE);
+                live.popped(o);
+                near.popped(o);
                 buf.truncate(a);
                 stack.pop();
+                path.pop();
                 if clean {
                     dedup_tail(&mut deps, from);
                     memo.record(o, epoch, &deps[from..]);
@@ -412,9 +465,13 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 epoch_expanded = 0;
                 memo.new_epoch();
                 depth.set(o, NONE);
+                live.popped(o);
+                near.popped(o);
+                near.popped(o);
                 buf.truncate(a);
                 deps.truncate(top.deps_start);
                 stack.pop();
+                path.pop();
                 child = Some(true);
                 continue 'frames;
             }
@@ -423,12 +480,43 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 top.input += 1;
                 continue;
             }
-            if epoch_expanded >= live_after && live.epoch != epoch {
-                live.compute(ctx, goal, &choice, epoch)?;
-                live_after = LIVE_AFTER.max(live.region);
+            if epoch_expanded >= live_after {
+                if live.epoch != epoch {
+                    live.compute(ctx, goal, &choice, &|y| y == goal, epoch)?;
+                    epoch_expanded = 0;
+                    live_after = LIVE_AFTER.max(live.region);
+                } else if !near.holds(epoch) {
+                    // The shallowest prefix of the path that shows `x` dead: its verdicts
+                    // hold for as long as its (fewer, deeper-rooted) blockers stay on the
+                    // path. Prefixes of 2, 4, 8, ... frames, then the whole path.
+                    let mut len = 2.min(path.len());
+                    loop {
+                        let on_path = |y: u32| {
+                            let d = depth.get(y);
+                            d != NONE && d as usize <= len
+                        };
+                        near.compute(ctx, path[len - 1], &choice, &on_path, epoch)?;
+                        if len == path.len() || near.dead(x, epoch) {
+                            break;
+                        }
+                        len = (2 * len).min(path.len());
+                    }
+                    epoch_expanded = 0;
+                    live_after = LIVE_AFTER.max(live.region).max(near.region);
+                }
             }
             if !ranks.is_derivable(x) || live.dead(x, epoch) {
                 // `x` fails on every path of this epoch.
+                top.cand += 1;
+                top.input = 0;
+                top.checked = false;
+            } else if near.dead(x, epoch) {
+                // `x` fails while the blockers are on the path: they are dependencies.
+                if clean && top.live_stamp != near.stamp {
+                    top.live_stamp = near.stamp;
+                    let o = top.obj;
+                    deps.extend(near.blockers.iter().copied().filter(|&d| d != o));
+                }
                 top.cand += 1;
                 top.input = 0;
                 top.checked = false;
@@ -443,6 +531,9 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 top.checked = false;
             } else {
                 push(x, epoch, &mut stack, &mut buf, &deps, &mut depth)?;
+                live.pushed(x);
+                path.push(x);
+                near.pushed(x);
                 expanded += 1;
                 epoch_expanded += 1;
                 peak = peak.max(stack.len());
