@@ -467,7 +467,6 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 depth.set(o, NONE);
                 live.popped(o);
                 near.popped(o);
-                near.popped(o);
                 buf.truncate(a);
                 deps.truncate(top.deps_start);
                 stack.pop();
