@@ -1,7 +1,7 @@
 //! `foon._foon.Plan`: one planning result, read by `foon.TaskTree` (object and unit ids; the
 //! Python layer turns them into objects only when asked).
 
-use foon_core::search::{Compat, Count, Explanation, Plan};
+use foon_core::search::{Explanation, Plan};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
@@ -10,28 +10,6 @@ use crate::errors::PyFoonErr;
 #[pyclass(frozen, module = "foon._foon", name = "Plan")]
 pub(crate) struct PyPlan {
     pub(crate) plan: Plan,
-}
-
-fn str_compat(c: Compat) -> &'static str {
-    if c == Compat::Course {
-        "course"
-    } else {
-        "sound"
-    }
-}
-
-fn str_count(c: Count) -> &'static str {
-    if c == Count::Ingredients {
-        "ingredients"
-    } else {
-        "nodes"
-    }
-}
-
-/// The first unit of the tree whose motion has no rate when a rate table was given (the
-/// core's `Plan::unrated`).
-fn unrated(plan: &Plan) -> Option<u32> {
-    plan.unrated
 }
 
 /// The pickled form of a plan: (goal, method, compat, count), (solved, units, unresolved,
@@ -69,11 +47,11 @@ impl PyPlan {
     }
     #[getter]
     fn compat(&self) -> &'static str {
-        str_compat(self.plan.query.compat)
+        self.plan.query.compat.as_str()
     }
     #[getter]
     fn count(&self) -> &'static str {
-        str_count(self.plan.query.count)
+        self.plan.query.count.as_str()
     }
     #[getter]
     fn solved(&self) -> bool {
@@ -137,7 +115,7 @@ impl PyPlan {
     /// or when no rate table was given).
     #[getter]
     fn unrated(&self) -> Option<u32> {
-        unrated(&self.plan)
+        self.plan.unrated
     }
 
     /// Equal when every field but the planning time is equal.
@@ -158,8 +136,8 @@ impl PyPlan {
             (
                 p.goal,
                 p.query.method.as_str().to_owned(),
-                str_compat(p.query.compat).to_owned(),
-                str_count(p.query.count).to_owned(),
+                p.query.compat.as_str().to_owned(),
+                p.query.count.as_str().to_owned(),
             ),
             (
                 p.solved,

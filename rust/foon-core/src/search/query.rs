@@ -70,6 +70,16 @@ pub enum Compat {
     Course,
 }
 
+impl Compat {
+    /// The name results report (`"sound"` or `"course"`), which [`FromStr`] reads back.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Sound => "sound",
+            Self::Course => "course",
+        }
+    }
+}
+
 impl FromStr for Compat {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
@@ -89,6 +99,16 @@ pub enum Count {
     #[default]
     Nodes,
     Ingredients,
+}
+
+impl Count {
+    /// The name results report (`"nodes"` or `"ingredients"`), which [`FromStr`] reads back.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Nodes => "nodes",
+            Self::Ingredients => "ingredients",
+        }
+    }
 }
 
 impl FromStr for Count {
