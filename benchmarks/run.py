@@ -315,12 +315,65 @@ def bench_memory(data: Path, n: int) -> None:
             )
 
 
+def bench_api(repeat: int) -> None:
+    """Costs of the Python API that grow with the calls or the output: one plan of one goal
+    through a prepared planner (the fixed cost of a call), reading every unit of a 200,000-unit
+    tree (`list(tree)`, light views), and the peak memory of `foon plan --format json` for
+    100,001 goals (streamed; half of them in the kitchen, each other one a unit away), in a
+    fresh process."""
+    import resource
+    import subprocess
+
+    ex = foon.example()
+    p = ex.foon.planner(ex.kitchen, motions=ex.motions, utensils=ex.utensils)
+    g = ex.foon.goal_id(ex.goals[0])
+    calls = 2_000
+
+    def many_plans() -> None:
+        for _ in range(calls):
+            p.plan(g, "ids")
+
+    per_call = timeit(many_plans, repeat) / calls
+    n = 200_000
+    f = foon.Foon.from_text(chain_text(n))
+    tree = f.plan(foon.Object("item", (f"s{n}",)), [foon.Object("item", ("s0",))], "ids")
+    per_unit = timeit(lambda: list(tree), repeat) / len(tree)
+    print("\n### Python API costs\n")
+    print("| what | time |")
+    print("|---|---:|")
+    print(
+        f"| `Planner.plan` of one goal (embedded example, ids) | {per_call * 1e6:.1f} µs a call |"
+    )
+    print(f"| `list(tree)` of a {len(tree):,}-unit tree | {per_unit * 1e6:.2f} µs a unit |")
+    with tempfile.TemporaryDirectory() as d:
+        m = 100_000
+        foon_file = Path(d) / "chain.foon"
+        foon_file.write_text(chain_text(m))
+        goals = Path(d) / "goals.json"
+        goals.write_text(json.dumps([{"label": "item", "states": [f"s{i}"]} for i in range(m + 1)]))
+        kitchen = Path(d) / "kitchen.json"
+        # Every other object in the kitchen: each goal is one unit away (or in the kitchen), so
+        # the run measures the output, not the planning.
+        kitchen.write_text(
+            json.dumps([{"label": "item", "states": [f"s{i}"]} for i in range(0, m + 1, 2)])
+        )
+        argv = [sys.executable, "-m", "foon", "plan", "--foon", str(foon_file), "--kitchen",
+                str(kitchen), "--goals", str(goals), "--format", "json", "-q"]  # fmt: skip
+        t = time.perf_counter()
+        subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+        wall = time.perf_counter() - t
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024
+    print(f"| `foon plan --format json`, {m + 1:,} goals on a {m:,}-unit chain | "
+          f"{fmt(wall)}, peak RSS {peak / 2**20:,.0f} MB |")  # fmt: skip
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--data", type=Path, default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
     p.add_argument(
-        "--only", choices=["parse", "plan", "size", "scale", "ladder", "container", "memory"]
+        "--only",
+        choices=["parse", "plan", "size", "scale", "ladder", "container", "memory", "api"],
     )
     p.add_argument(
         "--ladder",
@@ -359,6 +412,8 @@ def main() -> None:
         bench_container(40_000, a.repeat)
     if a.only in (None, "memory"):
         bench_memory(a.data, a.chain)
+    if a.only in (None, "api"):
+        bench_api(a.repeat)
 
 
 if __name__ == "__main__":
