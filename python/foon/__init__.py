@@ -23,7 +23,7 @@ import os
 from _collections_abc import Mapping
 
 from foon import _foon
-from foon._foon import FoonError, GoalNotFoundError, MissingRateError, ParseError
+from foon._foon import FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -51,6 +51,7 @@ if TYPE_CHECKING:
 __version__: str = _foon.__version__
 
 __all__ = [
+    "FORMATS",
     "METHODS",
     "Blocked",
     "Example",
@@ -64,6 +65,7 @@ __all__ = [
     "MissingRateError",
     "MotionRates",
     "Object",
+    "OutputError",
     "ParseError",
     "Planner",
     "TaskTree",
@@ -77,6 +79,17 @@ __all__ = [
 
 #: Every planning method, in the order comparison tables list them.
 METHODS: tuple[str, ...] = tuple(_foon.methods())
+
+#: Every output format: name -> (extension, MIME type, binary, needs Graphviz's ``dot``,
+#: writes a task tree, writes a FOON, writes a comparison).
+FORMATS: dict[str, tuple[str, str, bool, bool, bool, bool, bool]] = {
+    f[0]: f[1:] for f in _foon.formats()
+}
+
+
+def _out(data: bytes, format: str) -> str | bytes:
+    """Text formats as str, binary ones (png, pdf) as bytes."""
+    return data if FORMATS[format][2] else data.decode("utf-8")
 
 _new = object.__new__
 _set = object.__setattr__
@@ -139,6 +152,549 @@ class Object(_Frozen):
         """From the kitchen/goal JSON shape ``{"label", "states", "ingredients", "container"}``
         (checked as the core checks kitchen and goal files)."""
         return _fill(_new(cls), _foon.object_fields_of_mapping(d))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The kitchen/goal JSON shape."""
+        return {
+            "label": self.label,
+            "states": list(self.states),
+            "ingredients": list(self.ingredients),
+            "container": self.container,
+        }
+
+    def identity(self) -> tuple[str, tuple[str, ...], tuple[str, ...], str | None]:
+        """``(label, sorted states, sorted ingredients, container)``, by the core's rule
+        (computed once per object)."""
+        try:
+            return self._identity
+        except AttributeError:
+            label, states, ingredients, container = _foon.object_identity(*self._fields())
+            ident = (label, tuple(states), tuple(ingredients), container)
+            _set(self, "_identity", ident)
+            return ident
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Object) and self.identity() == other.identity()
+
+    def __hash__(self) -> int:
+        return hash(self.identity())
+
+    def __repr__(self) -> str:
+        return (
+            f"Object(label={self.label!r}, states={self.states!r}, "
+            f"ingredients={self.ingredients!r}, container={self.container!r})"
+        )
+
+    def __str__(self) -> str:
+        """``label (states) {ingredients} in [container]`` (the core's one-line form)."""
+        return _foon.object_text(*self._fields())
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Object, self._fields())
+
+    def _fields(self) -> _Fields:
+        return (self.label, self.states, self.ingredients, self.container)
+
+    def _tuple(self) -> tuple[str, list[str], list[str], str | None]:
+        return (self.label, list(self.states), list(self.ingredients), self.container)
+
+
+def _fill(o: Object, fields: _Fields) -> Object:
+    label, states, ingredients, container = fields
+    _set(o, "label", label)
+    _set(o, "states", states)
+    _set(o, "ingredients", ingredients)
+    _set(o, "container", container)
+    return o
+
+
+def _object(t: tuple[str, Sequence[str], Sequence[str], str | None]) -> Object:
+    """An object from fields the core gives (already checked)."""
+    return _fill(_new(Object), (t[0], tuple(t[1]), tuple(t[2]), t[3]))
+
+
+def _as_object(o: ObjectLike, what: str = "an object") -> Object:
+    if isinstance(o, Object):
+        return o
+    if isinstance(o, Mapping):
+        return Object.from_dict(o)
+    raise TypeError(f"{what} must be an Object or a mapping, not {_type(o)}")
+
+
+def _emit_warnings(items: Sequence[tuple[str | None, int, int, str, str]]) -> None:
+    """Issues load warnings at the first caller outside this package."""
+    if not items:
+        return
+    import sys
+    import warnings
+
+    level, frame = 1, sys._getframe(0)
+    while frame is not None and frame.f_globals.get("__name__", "").partition(".")[0] == "foon":
+        frame = frame.f_back  # type: ignore[assignment]
+        level += 1
+    for path, line, col, kind, message in items:
+        warnings.warn(
+            f"{path or '<string>'}:{line}:{col}: {message} [{kind}]", FoonWarning, stacklevel=level
+        )
+
+
+class Kitchen:
+    """The objects at hand. An object is available iff its identity equals an item's."""
+
+    __slots__ = ("_cached", "items")
+
+    def __init__(self, items: Iterable[ObjectLike] = ()) -> None:
+        if isinstance(items, (*_PATH_TYPES, Mapping, Object)):
+            raise TypeError(
+                f"items must be an iterable of objects, not {_type(items)} (use Kitchen.load "
+                "for a file)"
+            )
+        self.items: tuple[Object, ...] = tuple(_as_object(o, "a kitchen item") for o in items)
+        self._cached: list[tuple[str, list[str], list[str], str | None]] | None = None
+
+    @classmethod
+    def load(cls, path: PathLike) -> Kitchen:
+        """From a JSON list of objects or a file of FOON object blocks (``O``/``S`` lines)."""
+        return _kitchen(_foon.load_objects(path, "kitchen"))
+
+    @classmethod
+    def from_text(cls, text: str | bytes) -> Kitchen:
+        """From JSON text or FOON object blocks."""
+        return _kitchen(_foon.parse_objects(text, "kitchen"))
+
+    def __iter__(self) -> Iterator[Object]:
+        return iter(self.items)
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+    def __contains__(self, o: object) -> bool:
+        return isinstance(o, Object | Mapping) and _as_object(o) in self.items
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Kitchen) and self.items == other.items
+
+    def __hash__(self) -> int:
+        return hash(self.items)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Kitchen, (self.items,))
+
+    def without(self, drop: Iterable[ObjectLike]) -> Kitchen:
+        """A copy without the given items."""
+        gone = {_as_object(o) for o in drop}
+        return Kitchen(o for o in self.items if o not in gone)
+
+    def to_json(self) -> str:
+        import json
+
+        return json.dumps([o.to_dict() for o in self.items], indent=4)
+
+    def _tuples(self) -> list[tuple[str, list[str], list[str], str | None]]:
+        if self._cached is None:
+            self._cached = [o._tuple() for o in self.items]
+        return self._cached
+
+    def __repr__(self) -> str:
+        return f"Kitchen({len(self.items)} items)"
+
+
+def _kitchen(raw: Iterable[tuple[str, list[str], list[str], str | None]]) -> Kitchen:
+    k: Kitchen = _new(Kitchen)
+    k.items = tuple(_object(t) for t in raw)
+    k._cached = None
+    return k
+
+
+def _as_kitchen(k: KitchenLike) -> Kitchen:
+    if k is None:
+        return Kitchen()
+    if isinstance(k, Kitchen):
+        return k
+    if isinstance(k, _PATH_TYPES):
+        return Kitchen.load(k)
+    if isinstance(k, Mapping | Object) or not hasattr(k, "__iter__"):
+        raise TypeError(
+            f"kitchen must be a Kitchen, a path or an iterable of objects, not {_type(k)}"
+        )
+    return Kitchen(k)
+
+
+class MotionRates(Mapping[str, float]):
+    """Success rate of each motion (``motion<TAB>rate`` lines in ``motion.txt``); every rate
+    is between 0 and 1 (checked by the core)."""
+
+    def __init__(self, rates: Mapping[str, float] | Iterable[tuple[str, float]] = ()) -> None:
+        pairs = rates.items() if isinstance(rates, Mapping) else rates
+        # Names follow the rate file's rule (trimmed, lower-cased), checked by the core.
+        self._rates: dict[str, float] = dict(_foon.check_rates(pairs))
+
+    @classmethod
+    def load(cls, path: PathLike) -> MotionRates:
+        return cls(_foon.load_rates(path))
+
+    @classmethod
+    def from_text(cls, text: str | bytes) -> MotionRates:
+        return cls(_foon.parse_rates(text))
+
+    def __getitem__(self, motion: str) -> float:
+        return self._rates[motion]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._rates)
+
+    def __len__(self) -> int:
+        return len(self._rates)
+
+    def __hash__(self) -> int:
+        return hash(frozenset(self._rates.items()))
+
+    def __repr__(self) -> str:
+        return f"MotionRates({len(self._rates)} motions)"
+
+
+def _as_rates(m: MotionsLike) -> MotionRates | None:
+    if m is None or isinstance(m, MotionRates):
+        return m
+    if isinstance(m, _PATH_TYPES):
+        return MotionRates.load(m)
+    return MotionRates(m)
+
+
+def load_utensils(path: PathLike) -> list[str]:
+    """Reads a utensil list (one name a line)."""
+    return list(_foon.load_utensils(path))
+
+
+def load_goals(path: PathLike) -> list[Object]:
+    """Reads goals: a JSON list of objects, one JSON object, or FOON object blocks (``O``/``S``
+    lines), checked as the command line's ``--goals`` file is."""
+    return [_object(t) for t in _foon.load_objects(path, "goal")]
+
+
+def _as_utensils(u: UtensilsLike) -> list[str]:
+    if u is None:
+        return []
+    if isinstance(u, _PATH_TYPES):
+        return load_utensils(u)
+    try:
+        items = list(u)
+    except TypeError:
+        raise TypeError(
+            f"utensils must be a path or an iterable of str, not {type(u).__name__}"
+        ) from None
+    for i, x in enumerate(items):
+        if not isinstance(x, str):
+            raise TypeError(f"utensils[{i}] must be a str, not {type(x).__name__}")
+    return items
+
+
+class FunctionalUnit:
+    """One step: input objects, a motion, output objects.
+
+    Units of a :class:`TaskTree` or a :class:`Foon` are light views: the motion, the line and
+    the objects are read from the index when first asked for.
+    """
+
+    __slots__ = ("_foon", "_index", "_inputs", "_outputs", "_raw")
+
+    _foon: Foon | None
+    _index: int
+    _raw: tuple[str, Sequence[int], Sequence[int], int] | None
+    _inputs: tuple[Object, ...] | None
+    _outputs: tuple[Object, ...] | None
+
+    def __init__(
+        self,
+        index: int,
+        motion: str,
+        inputs: Iterable[Object],
+        outputs: Iterable[Object],
+        line: int,
+        input_ids: Iterable[int] = (),
+        output_ids: Iterable[int] = (),
+    ) -> None:
+        self._foon = None
+        self._index = index
+        self._raw = (motion, tuple(input_ids), tuple(output_ids), line)
+        self._inputs = tuple(inputs)
+        self._outputs = tuple(outputs)
+
+    def _read(self) -> tuple[str, Sequence[int], Sequence[int], int]:
+        raw = self._raw
+        if raw is None:
+            assert self._foon is not None
+            raw = self._raw = self._foon._native.fu(self._index)
+        return raw
+
+    @property
+    def index(self) -> int:
+        return self._index
+
+    @property
+    def motion(self) -> str:
+        return self._read()[0]
+
+    @property
+    def line(self) -> int:
+        return self._read()[3]
+
+    @property
+    def input_ids(self) -> tuple[int, ...]:
+        return tuple(self._read()[1])
+
+    @property
+    def output_ids(self) -> tuple[int, ...]:
+        return tuple(self._read()[2])
+
+    @property
+    def inputs(self) -> tuple[Object, ...]:
+        if self._inputs is None:
+            assert self._foon is not None
+            self._inputs = tuple(map(self._foon.object, self._read()[1]))
+        return self._inputs
+
+    @property
+    def outputs(self) -> tuple[Object, ...]:
+        if self._outputs is None:
+            assert self._foon is not None
+            self._outputs = tuple(map(self._foon.object, self._read()[2]))
+        return self._outputs
+
+    def _key(self) -> tuple[Any, ...]:
+        return (self.index, self.motion, self.inputs, self.outputs, self.line)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, FunctionalUnit) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash((self.index, self.motion, self.line))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (
+            FunctionalUnit,
+            (self.index, self.motion, self.inputs, self.outputs, self.line, self.input_ids,
+             self.output_ids),
+        )  # fmt: skip
+
+    def __repr__(self) -> str:
+        return (
+            f"FunctionalUnit(index={self.index!r}, motion={self.motion!r}, "
+            f"inputs={self.inputs!r}, outputs={self.outputs!r}, line={self.line!r})"
+        )
+
+
+def _unit_view(foon: Foon) -> Callable[[int], FunctionalUnit]:
+    """A maker of light unit views of ``foon`` (nothing is read until asked for)."""
+    cls = FunctionalUnit
+
+    def view(i: int) -> FunctionalUnit:
+        u: FunctionalUnit = _new(cls)
+        u._foon = foon
+        u._index = i
+        u._raw = u._inputs = u._outputs = None
+        return u
+
+    return view
+
+
+class TaskTree:
+    """The result of planning one goal. Objects and lists are built from the core's result
+    when first read."""
+
+    __slots__ = ("_kept", "_plan", "foon", "planner")
+
+    def __init__(self, foon: Foon, plan: _foon.Plan, planner: Planner | None = None) -> None:
+        self.foon = foon
+        self.planner = planner
+        self._plan = plan
+        self._kept: dict[str, Any] = {}
+
+    def __repr__(self) -> str:
+        state = "solved" if self.solved else "unsolved"
+        n = len(self.units)
+        course = " (course)" if self.compat == "course" else ""
+        return f"<TaskTree {self.goal} by {self.method}{course}: {state}, {_count(n, 'unit')}>"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (TaskTree, (self.foon, self._plan, self.planner))
+
+    def __eq__(self, other: object) -> bool:
+        """The same FOON and the same result (the planning time aside)."""
+        return isinstance(other, TaskTree) and self._plan == other._plan and self.foon == other.foon
+
+    def __hash__(self) -> int:
+        return hash((self._plan.goal, self._plan.method, tuple(self.units)))
+
+    def _objects(self, name: str, ids: list[int]) -> list[Object]:
+        try:
+            return self._kept[name]  # type: ignore[no-any-return]
+        except KeyError:
+            v = self._kept[name] = [self.foon.object(o) for o in ids]
+            return v
+
+    @property
+    def goal(self) -> Object:
+        return self.foon.object(self._plan.goal)
+
+    @property
+    def goal_id(self) -> int:
+        return self._plan.goal
+
+    @property
+    def method(self) -> str:
+        return self._plan.method
+
+    @property
+    def compat(self) -> str:
+        """``"course"`` or ``"sound"``."""
+        return self._plan.compat
+
+    @property
+    def count(self) -> str:
+        """``"nodes"`` or ``"ingredients"``."""
+        return self._plan.count
+
+    @property
+    def solved(self) -> bool:
+        return self._plan.solved
+
+    @property
+    def units(self) -> list[int]:
+        """FU indices (0-based, file order after de-duplication), in output order."""
+        try:
+            return self._kept["units"]  # type: ignore[no-any-return]
+        except KeyError:
+            v = self._kept["units"] = self._plan.units
+            return v
+
+    @property
+    def unresolved(self) -> list[Object]:
+        """Course methods: objects reached that are neither in the kitchen nor produced."""
+        return self._objects("unresolved", self._plan.unresolved)
+
+    @property
+    def missing(self) -> list[Object]:
+        """Failed sound methods: raw items a tree would need that the kitchen lacks."""
+        return self._objects("missing", self._plan.missing)
+
+    @property
+    def cycle(self) -> list[Object]:
+        """Failed sound methods blocked only by cycles: one blocking cycle (first = last)."""
+        return self._objects("cycle", self._plan.cycle)
+
+    @property
+    def cycle_units(self) -> list[int]:
+        """The units of that cycle."""
+        try:
+            return self._kept["cycle_units"]  # type: ignore[no-any-return]
+        except KeyError:
+            v = self._kept["cycle_units"] = self._plan.cycle_units
+            return v
+
+    @property
+    def height(self) -> int | None:
+        """Parallel steps of the tree (the goal's rank using only its units)."""
+        return self._plan.height
+
+    @property
+    def success(self) -> float | None:
+        """Product of the motion success rates of the units (None without a rate table)."""
+        return self._plan.success
+
+    @property
+    def unrated_motion(self) -> str | None:
+        """The motion of the first unit of the tree that has no rate in the rate table given
+        (None when every motion has one, or when no table was given)."""
+        u = self._plan.unrated
+        return None if u is None else self.foon._native.fu(u)[0]
+
+    @property
+    def cost(self) -> float | None:
+        """The optimal methods' objective value (None for the others)."""
+        return self._plan.cost
+
+    @property
+    def leaf_inputs(self) -> int:
+        """Distinct kitchen items the units need."""
+        return self._plan.leaf_inputs
+
+    @property
+    def expanded(self) -> int:
+        """Objects expanded by the search."""
+        return self._plan.expanded
+
+    @property
+    def peak_frontier(self) -> int:
+        """Largest frontier (open list) during the search."""
+        return self._plan.peak_frontier
+
+    @property
+    def seconds(self) -> float:
+        """Time spent planning, in seconds."""
+        return self._plan.seconds
+
+    def __len__(self) -> int:
+        return len(self.units)
+
+    def __iter__(self) -> Iterator[FunctionalUnit]:
+        """The units, in output order, as light views (see :class:`FunctionalUnit`)."""
+        return map(_unit_view(self.foon), self.units)
+
+    @property
+    def fu_count(self) -> int:
+        return len(self.units)
+
+    def to_text(self) -> str:
+        """The tree in the course output file form (``//`` then each FU)."""
+        return self.foon._native.tree_text(self.units)
+
+    def explanation(self) -> str:
+        """One line saying why the goal could not be made (empty when solved)."""
+        return _foon.explanation(self.foon._native, self._plan)
+
+    def _planner(self) -> Planner:
+        if self.planner is None:
+            self.planner = self.foon.planner()
+        return self.planner
+
+    def write(
+        self,
+        format: str,
+        *,
+        title: str | None = None,
+        max_nodes: int | None = None,
+        cost_scale: int | None = None,
+    ) -> str | bytes:
+        """The tree in ``format`` (a name of :data:`FORMATS`: text, json, dot, svg, png, pdf,
+        html, steps, pddl, graphml): ``str`` for text formats, ``bytes`` for png and pdf.
+        svg, png, pdf and html run Graphviz's ``dot`` (:class:`OutputError` when it is
+        missing); ``max_nodes`` raises the size above which pictures are refused."""
+        data = _foon.write_tree(
+            self._planner()._native,
+            self._plan,
+            format,
+            title=title,
+            max_nodes=max_nodes,
+            cost_scale=cost_scale,
+        )
+        return _out(data, format)
+
+    def to_dot(self, *, title: str | None = None) -> str:
+        """The tree as Graphviz DOT in the FOON visual language (motions red squares,
+        objects green circles, the goal purple, kitchen items with a double border)."""
+        return str(self.write("dot", title=title))
+
+    def to_svg(self, *, title: str | None = None) -> str:
+        """The tree's picture as SVG (runs Graphviz's ``dot``)."""
+        return str(self.write("svg", title=title))
+
+    def _repr_svg_(self) -> str | None:
+        """Jupyter shows a tree as its picture (nothing when Graphviz is missing)."""
+        try:
+            return self.to_svg()
+        except OutputError:
+            return None
 
     def to_dict(self) -> dict[str, Any]:
         """The kitchen/goal JSON shape."""
@@ -853,6 +1409,47 @@ class Foon:
     def to_text(self) -> str:
         """The whole FOON in the course text form."""
         return self._native.to_text()
+
+    def write(
+        self,
+        format: str,
+        *,
+        goal: GoalLike | None = None,
+        depth: int | None = None,
+        units: Iterable[int] | None = None,
+        kitchen: KitchenLike = None,
+        utensils: UtensilsLike = None,
+        title: str | None = None,
+        max_nodes: int | None = None,
+        cost_scale: int | None = None,
+    ) -> str | bytes:
+        """The FOON in ``format`` (text, json, dot, svg, png, pdf, pddl, graphml): all of it,
+        the ``units`` given, or with ``goal`` and ``depth`` the units within ``depth`` steps
+        of the goal (0: the units that make or use it), the goal drawn purple. A ``kitchen``
+        marks its items in pictures and is PDDL's initial state. ``str`` for text formats,
+        ``bytes`` for png and pdf."""
+        focus = None if goal is None else self.goal_id(goal)
+        planner = None
+        if kitchen is not None or utensils is not None:
+            planner = self.planner(kitchen, utensils=utensils)._native
+        data = _foon.write_foon(
+            self._native,
+            format,
+            units=None if units is None else [int(u) for u in units],
+            focus=focus,
+            depth=depth,
+            planner=planner,
+            title=title,
+            max_nodes=max_nodes,
+            cost_scale=cost_scale,
+        )
+        return _out(data, format)
+
+    def to_dot(
+        self, *, goal: GoalLike | None = None, depth: int | None = None, title: str | None = None
+    ) -> str:
+        """The FOON (or the neighbourhood of ``goal``) as Graphviz DOT."""
+        return str(self.write("dot", goal=goal, depth=depth, title=title))
 
     def producers(self, o: int) -> list[int]:
         return list(self._native.producers(o))

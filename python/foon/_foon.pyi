@@ -9,12 +9,16 @@ __all__ = [
     "FoonError",
     "GoalNotFoundError",
     "MissingRateError",
+    "OutputError",
     "ParseError",
     "Plan",
     "Planner",
+    "TreeWriter",
     "__version__",
     "check",
     "check_rates",
+    "explanation",
+    "formats",
     "load_objects",
     "load_rates",
     "load_utensils",
@@ -27,6 +31,9 @@ __all__ = [
     "parse_objects",
     "parse_rates",
     "parse_utensils",
+    "write_comparison",
+    "write_foon",
+    "write_tree",
 ]
 
 __version__: str
@@ -50,6 +57,8 @@ class GoalNotFoundError(FoonError): ...
 
 class MissingRateError(FoonError):
     motion: str
+
+class OutputError(FoonError): ...
 
 @final
 class Foon:
@@ -185,3 +194,51 @@ def check(
     utensils: list[str] = ...,
     rates_file: _Path | None = None,
 ) -> list[tuple[str | None, int, int, str, str, str]]: ...
+def formats() -> list[tuple[str, str, str, bool, bool, bool, bool, bool]]:
+    """Every format: (name, extension, MIME type, binary, needs `dot`, writes a tree, writes
+    a FOON, writes a comparison)."""
+def write_tree(
+    planner: Planner,
+    plan: Plan,
+    format: str,
+    *,
+    title: str | None = None,
+    max_nodes: int | None = None,
+    cost_scale: int | None = None,
+) -> bytes: ...
+def write_foon(
+    foon: Foon,
+    format: str,
+    *,
+    units: list[int] | None = None,
+    focus: Any = None,
+    depth: int | None = None,
+    planner: Planner | None = None,
+    title: str | None = None,
+    max_nodes: int | None = None,
+    cost_scale: int | None = None,
+) -> bytes: ...
+def write_comparison(
+    foon: Foon,
+    rows: Sequence[tuple[str, Plan] | tuple[str, str, str]],
+    format: str,
+    *,
+    title: str | None = None,
+) -> bytes: ...
+def explanation(foon: Foon, plan: Plan) -> str: ...
+
+@final
+class TreeWriter:
+    def __new__(
+        cls,
+        format: str,
+        many: bool,
+        *,
+        title: str | None = None,
+        max_nodes: int | None = None,
+        cost_scale: int | None = None,
+    ) -> TreeWriter: ...
+    def begin(self) -> bytes: ...
+    def tree(self, planner: Planner, plan: Plan) -> bytes: ...
+    def failed(self, goal: _Obj, label_only: bool, method: str, error: str) -> bytes: ...
+    def end(self) -> bytes: ...

@@ -90,6 +90,9 @@ pub enum Error {
     Invalid(String),
     /// Work was cancelled through its stop flag.
     Cancelled,
+    /// An output could not be written: Graphviz's `dot` is missing or failed, or the graph
+    /// is too large to draw.
+    Output(String),
 }
 
 impl Error {
@@ -153,6 +156,7 @@ impl fmt::Display for Error {
             ),
             Self::Invalid(msg) => f.write_str(msg),
             Self::Cancelled => f.write_str("cancelled"),
+            Self::Output(msg) => f.write_str(msg),
         }
     }
 }

@@ -30,6 +30,13 @@ pyo3::create_exception!(
     "A motion used by a candidate unit has no success rate (give default_rate to use one)."
 );
 
+pyo3::create_exception!(
+    foon,
+    OutputError,
+    FoonError,
+    "An output could not be written: Graphviz's `dot` is missing or failed, or the graph is too large to draw."
+);
+
 /// Newtype so that `?` turns core errors into Python exceptions.
 pub(crate) struct PyFoonErr(pub(crate) foon_core::Error);
 
@@ -71,6 +78,7 @@ impl From<PyFoonErr> for PyErr {
             }),
             E::Cancelled => PyKeyboardInterrupt::new_err("cancelled"),
             E::Invalid(_) => PyValueError::new_err(msg),
+            E::Output(_) => OutputError::new_err(msg),
             _ => FoonError::new_err(msg),
         }
     }

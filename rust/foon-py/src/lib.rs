@@ -12,6 +12,7 @@ mod loaders;
 mod plan;
 mod planner;
 mod serial;
+mod writers;
 
 #[pyo3::pymodule]
 mod _foon {
@@ -21,6 +22,10 @@ mod _foon {
     use super::plan::PyPlan;
     #[pymodule_export]
     use super::planner::PyPlanner;
+    #[pymodule_export]
+    use super::writers::{
+        PyTreeWriter, explanation, formats, write_comparison, write_foon, write_tree,
+    };
 
     #[pymodule_export]
     use super::loaders::{
@@ -30,7 +35,7 @@ mod _foon {
     };
 
     #[pymodule_export]
-    use super::errors::{FoonError, GoalNotFoundError, MissingRateError, ParseError};
+    use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
 
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {

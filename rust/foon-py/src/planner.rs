@@ -19,8 +19,8 @@ type TreeCheck = (bool, Option<u32>, Option<(usize, Vec<u32>)>);
 
 #[pyclass(frozen, module = "foon._foon", name = "Planner")]
 pub(crate) struct PyPlanner {
-    foon: Arc<foon_core::Foon>,
-    prep: Arc<Prepared>,
+    pub(crate) foon: Arc<foon_core::Foon>,
+    pub(crate) prep: Arc<Prepared>,
 }
 
 #[pymethods]
