@@ -154,9 +154,8 @@ impl fmt::Display for Error {
                 "motion '{motion}' has no success rate in the motion table \
                  (give a default rate to use one)"
             ),
-            Self::Invalid(msg) => f.write_str(msg),
+            Self::Invalid(msg) | Self::Output(msg) => f.write_str(msg),
             Self::Cancelled => f.write_str("cancelled"),
-            Self::Output(msg) => f.write_str(msg),
         }
     }
 }

@@ -35,19 +35,23 @@ fn options(title: Option<String>, max_nodes: Option<usize>, cost_scale: Option<u
     o
 }
 
+/// A format's (name, extension, MIME type, binary, needs `dot`, writes a tree, writes a FOON,
+/// writes a comparison).
+type FormatRow = (
+    &'static str,
+    &'static str,
+    &'static str,
+    bool,
+    bool,
+    bool,
+    bool,
+    bool,
+);
+
 /// Every format: (name, extension, MIME type, binary, needs `dot`, writes a tree, writes a
 /// FOON, writes a comparison).
 #[pyfunction]
-pub(crate) fn formats() -> Vec<(
-    &'static str,
-    &'static str,
-    &'static str,
-    bool,
-    bool,
-    bool,
-    bool,
-    bool,
-)> {
+pub(crate) fn formats() -> Vec<FormatRow> {
     Format::ALL
         .iter()
         .map(|&f| {

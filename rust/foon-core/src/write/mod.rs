@@ -42,7 +42,7 @@ pub enum Format {
     Steps,
     /// A PDDL domain and problem.
     Pddl,
-    /// GraphML (the object–motion bipartite graph).
+    /// `GraphML` (the object–motion bipartite graph).
     Graphml,
 }
 
