@@ -8,6 +8,7 @@ mod compare;
 mod doc;
 mod dot;
 pub mod render;
+mod steps;
 mod text;
 
 use std::io;
@@ -253,6 +254,7 @@ impl TreeWriter {
     pub fn new(format: Format, opts: &Options, many: bool) -> Result<Self> {
         let inner: Box<dyn TreeFormat + Send> = match format {
             Format::Text => Box::new(text::TextTrees::new(many)),
+            Format::Steps => Box::new(steps::StepTrees::new(many)),
             Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
                 Box::new(dot::DotTrees::new(format, opts, many))
             }
