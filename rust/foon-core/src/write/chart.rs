@@ -13,7 +13,7 @@ const COLOURS: [&str; 8] = [
     "#1f77b4", "#ff7f0e", "#17becf", "#8c564b", "#7f7f7f", "#bcbd22", "#34495e", "#d9b382",
 ];
 
-const BAR: f64 = 34.0;
+const BAR: f64 = 40.0;
 const GAP: f64 = 8.0;
 const SIDE: f64 = 12.0;
 const TOP: f64 = 40.0;

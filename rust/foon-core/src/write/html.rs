@@ -48,6 +48,7 @@ ol.steps { list-style: none; padding-left: 0; }
 ol.steps li { margin: 0.2em 0; }
 table { border-collapse: collapse; margin: 0.5em 0; }
 th, td { border: 1px solid #cccccc; padding: 0.25em 0.6em; text-align: left; vertical-align: top; }
+table.summary td:first-child, table.rows td:nth-child(2) { white-space: nowrap; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 th { background: #f2f2f2; }
 p.error { color: #333333; background: #f7f3e3; border-left: 4px solid #b8a36a; padding: 0.4em 0.8em; }
