@@ -4,9 +4,11 @@
 //! [`write_comparison`] for a comparison of methods ([`Comparison`]). The CLI, the Python API
 //! and the tests go through these; nothing else formats output.
 
+mod chart;
 mod compare;
 mod doc;
 mod dot;
+mod html;
 pub mod render;
 mod steps;
 mod text;
@@ -258,6 +260,7 @@ impl TreeWriter {
             Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
                 Box::new(dot::DotTrees::new(format, opts, many))
             }
+            Format::Html => Box::new(html::HtmlTrees::new(opts, many)),
             f => return Err(f.unsupported("a task tree", Format::writes_tree)),
         };
         Ok(Self {
@@ -331,8 +334,12 @@ pub fn write_comparison(
     opts: &Options,
     out: &mut dyn io::Write,
 ) -> Result<()> {
-    let _ = (doc, opts, out);
-    Err(format.unsupported("a comparison", Format::writes_comparison))
+    match format {
+        Format::Text => put(out, compare::table_text(doc).as_bytes()),
+        Format::Csv => put(out, compare::table_csv(doc).as_bytes()),
+        Format::Html => html::write_comparison(doc, opts, out),
+        f => Err(f.unsupported("a comparison", Format::writes_comparison)),
+    }
 }
 
 /// Writes into a byte buffer (what the bindings hand to Python).
