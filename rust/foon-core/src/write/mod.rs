@@ -7,6 +7,7 @@
 mod compare;
 mod doc;
 mod dot;
+mod graphml;
 pub mod render;
 mod steps;
 mod text;
@@ -258,6 +259,7 @@ impl TreeWriter {
             Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
                 Box::new(dot::DotTrees::new(format, opts, many))
             }
+            Format::Graphml => Box::new(graphml::GraphmlTrees::new(opts, many)),
             f => return Err(f.unsupported("a task tree", Format::writes_tree)),
         };
         Ok(Self {
@@ -320,6 +322,7 @@ pub fn write_foon(
         Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
             dot::write_foon(format, doc, opts, out)
         }
+        Format::Graphml => graphml::write_foon(doc, opts, out),
         f => Err(f.unsupported("a FOON", Format::writes_foon)),
     }
 }
