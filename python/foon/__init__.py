@@ -693,6 +693,14 @@ class TaskTree:
         """The numbered plain-English steps, in execution order."""
         return str(self.write("steps")).splitlines()
 
+    def to_networkx(self) -> Any:
+        """The tree as a ``networkx.DiGraph``: the object-motion bipartite graph with the
+        attributes of its GraphML (``write("graphml")``). Needs the optional extra
+        ``foon[networkx]`` (:class:`ImportError` without it)."""
+        from foon import _networkx
+
+        return _networkx.from_graphml(str(self.write("graphml")), "TaskTree.to_networkx()")
+
     def _repr_svg_(self) -> str | None:
         """Jupyter shows a tree as its picture (nothing when Graphviz is missing)."""
         try:
@@ -941,6 +949,26 @@ class Foon:
     ) -> str:
         """The FOON (or the neighbourhood of ``goal``) as Graphviz DOT."""
         return str(self.write("dot", goal=goal, depth=depth, title=title))
+
+    def to_networkx(
+        self,
+        *,
+        goal: GoalLike | None = None,
+        depth: int | None = None,
+        units: Iterable[int] | None = None,
+        kitchen: KitchenLike = None,
+        utensils: UtensilsLike = None,
+    ) -> Any:
+        """The FOON (or the part :meth:`write` selects with the same arguments) as a
+        ``networkx.DiGraph``: the object-motion bipartite graph with the attributes of its
+        GraphML. Needs the optional extra ``foon[networkx]`` (:class:`ImportError` without
+        it)."""
+        from foon import _networkx
+
+        text = self.write(
+            "graphml", goal=goal, depth=depth, units=units, kitchen=kitchen, utensils=utensils
+        )
+        return _networkx.from_graphml(str(text), "Foon.to_networkx()")
 
     def producers(self, o: int) -> list[int]:
         return list(self._native.producers(o))

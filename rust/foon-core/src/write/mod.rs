@@ -8,6 +8,7 @@ mod chart;
 mod compare;
 mod doc;
 mod dot;
+mod graphml;
 mod html;
 pub mod render;
 mod steps;
@@ -261,6 +262,7 @@ impl TreeWriter {
                 Box::new(dot::DotTrees::new(format, opts, many))
             }
             Format::Html => Box::new(html::HtmlTrees::new(opts, many)),
+            Format::Graphml => Box::new(graphml::GraphmlTrees::new(opts, many)),
             f => return Err(f.unsupported("a task tree", Format::writes_tree)),
         };
         Ok(Self {
@@ -323,6 +325,7 @@ pub fn write_foon(
         Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
             dot::write_foon(format, doc, opts, out)
         }
+        Format::Graphml => graphml::write_foon(doc, opts, out),
         f => Err(f.unsupported("a FOON", Format::writes_foon)),
     }
 }
