@@ -7,6 +7,7 @@
 mod compare;
 mod doc;
 mod dot;
+pub mod json;
 pub mod render;
 mod steps;
 mod text;
@@ -254,6 +255,7 @@ impl TreeWriter {
     pub fn new(format: Format, opts: &Options, many: bool) -> Result<Self> {
         let inner: Box<dyn TreeFormat + Send> = match format {
             Format::Text => Box::new(text::TextTrees::new(many)),
+            Format::Json => Box::new(json::JsonTrees::new(many)),
             Format::Steps => Box::new(steps::StepTrees::new(many)),
             Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
                 Box::new(dot::DotTrees::new(format, opts, many))
@@ -317,6 +319,7 @@ pub fn write_foon(
 ) -> Result<()> {
     match format {
         Format::Text => put(out, tree_text(doc.foon, &doc.units()).as_bytes()),
+        Format::Json => json::write_foon(doc, out),
         Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
             dot::write_foon(format, doc, opts, out)
         }
@@ -331,8 +334,11 @@ pub fn write_comparison(
     opts: &Options,
     out: &mut dyn io::Write,
 ) -> Result<()> {
-    let _ = (doc, opts, out);
-    Err(format.unsupported("a comparison", Format::writes_comparison))
+    let _ = opts;
+    match format {
+        Format::Json => json::write_comparison(doc, out),
+        f => Err(f.unsupported("a comparison", Format::writes_comparison)),
+    }
 }
 
 /// Writes into a byte buffer (what the bindings hand to Python).
