@@ -90,8 +90,13 @@ def test_schema_refuses_what_foon_would_refuse() -> None:
         [{"input_nodes": [], "output_nodes": []}],
         [{"input_nodes": [{"label": ""}], "motion_node": "m", "output_nodes": []}],
         [{"input_nodes": [{"label": "a", "in_motion": 2}], "motion_node": "m", "output_nodes": []}],
-        [{"input_nodes": [{"label": "a", "ingredients": ["x,y"]}], "motion_node": "m",
-          "output_nodes": []}],  # fmt: skip
+        [
+            {
+                "input_nodes": [{"label": "a", "ingredients": ["x,y"]}],
+                "motion_node": "m",
+                "output_nodes": [],
+            }
+        ],
         [{"input_nodes": [{"label": "a\tb"}], "motion_node": "m", "output_nodes": []}],
     ]
     for doc in bad:
@@ -240,25 +245,56 @@ MALFORMED = [
     # (text, line, column, words of the reason)
     ('{"input_nodes": []}', 1, 1, "not one object"),
     ('[\n  {"input_nodes": [], "output_nodes": []}\n]', 2, 3, "missing field `motion_node`"),
-    ('[\n {"input_nodes": [\n  {"states": ["x"]}\n ], "motion_node": "m", "output_nodes": []}]',
-     3, 3, "missing field `label`"),  # fmt: skip
-    ('[{"input_nodes": [{"label": ""}], "motion_node": "m", "output_nodes": []}]', 1, 31,
-     "empty object label"),  # fmt: skip
-    ('[{"input_nodes": [{"label": "a", "states": [1]}], "motion_node": "m", "output_nodes": []}]',
-     1, 45, "expected a string"),  # fmt: skip
-    ('[{"input_nodes": [], "motion_node": "m", "output_nodes": [], "colour": 1}]', 1, 69,
-     "unknown field `colour`"),  # fmt: skip
+    (
+        '[\n {"input_nodes": [\n  {"states": ["x"]}\n ], "motion_node": "m", "output_nodes": []}]',
+        3,
+        3,
+        "missing field `label`",
+    ),
+    (
+        '[{"input_nodes": [{"label": ""}], "motion_node": "m", "output_nodes": []}]',
+        1,
+        31,
+        "empty object label",
+    ),
+    (
+        '[{"input_nodes": [{"label": "a", "states": [1]}], "motion_node": "m", "output_nodes": []}]',
+        1,
+        45,
+        "expected a string",
+    ),
+    (
+        '[{"input_nodes": [], "motion_node": "m", "output_nodes": [], "colour": 1}]',
+        1,
+        69,
+        "unknown field `colour`",
+    ),
     ('[{"input_nodes": [], "motion_node": "  ", "output_nodes": []}]', 1, 40, "empty motion"),
     ('[{"input_nodes": [], "motion_node": "m", "output_nodes": []},\n]', 2, 1, "trailing comma"),
     ('[{"input_nodes": [], "motion_node": "m", "output_nodes": []}', 1, 61, "no closing ']'"),
     ('[{"input_nodes": [], "motion_node": "m", "output_nodes": []}] x', 1, 63, "unexpected text"),
     ('[["a"]]', 1, 2, "expected a functional unit"),
-    ('[{"input_nodes": [{"label": "é", "ingredients": ["a,b"]}], "motion_node": "m", '
-     '"output_nodes": []}]', 1, 56, "holds a ','"),  # fmt: skip
-    ('[{"input_nodes": [{"label": "a", "in_motion": 3}], "motion_node": "m", "output_nodes": []}]',
-     1, 48, "in_motion is 0 or 1"),  # fmt: skip
-    ('[{"input_nodes": [{"label": "a\\nb"}], "motion_node": "m", "output_nodes": []}]', 1, 35,
-     "control character"),  # fmt: skip
+    (
+        (
+            '[{"input_nodes": [{"label": "é", "ingredients": ["a,b"]}], "motion_node": "m", '
+            '"output_nodes": []}]'
+        ),
+        1,
+        56,
+        "holds a ','",
+    ),
+    (
+        '[{"input_nodes": [{"label": "a", "in_motion": 3}], "motion_node": "m", "output_nodes": []}]',
+        1,
+        48,
+        "in_motion is 0 or 1",
+    ),
+    (
+        '[{"input_nodes": [{"label": "a\\nb"}], "motion_node": "m", "output_nodes": []}]',
+        1,
+        35,
+        "control character",
+    ),
     ('[{"input_nodes": [}]', 1, 19, "expected value"),
 ]
 
@@ -290,11 +326,17 @@ def test_invalid_utf8_in_a_json_foon(tmp_path: Path) -> None:
 def test_check_reports_every_bad_unit_of_a_json_foon(tmp_path: Path) -> None:
     """foon check goes on after a unit with a bad value (the unit is dropped)."""
     units = [
-        {"input_nodes": [{"label": "a"}], "motion_node": "m", "output_nodes": [{"label": "b",
-         "states": ["x"]}]},  # fmt: skip
+        {
+            "input_nodes": [{"label": "a"}],
+            "motion_node": "m",
+            "output_nodes": [{"label": "b", "states": ["x"]}],
+        },
         {"input_nodes": [{"label": ""}], "motion_node": "m", "output_nodes": []},
-        {"input_nodes": [{"label": "b", "states": ["x"]}], "motion_node": "n",
-         "output_nodes": [{"label": "c", "ingredients": [" d"]}]},  # fmt: skip
+        {
+            "input_nodes": [{"label": "b", "states": ["x"]}],
+            "motion_node": "n",
+            "output_nodes": [{"label": "c", "ingredients": [" d"]}],
+        },
         {"input_nodes": [], "output_nodes": []},
     ]
     p = tmp_path / "recipe.json"
@@ -322,7 +364,7 @@ def test_strict_mode_refuses_an_empty_ingredient(tmp_path: Path) -> None:
     p = tmp_path / "empty.json"
     p.write_text(doc)
     assert [x.code for x in foon.check([p])] == ["empty-ingredient"]
-    with pytest.raises(foon.ParseError, match="empty ingredient.*strict mode"):
+    with pytest.raises(foon.ParseError, match=r"empty ingredient.*strict mode"):
         foon.Foon.from_text(doc, strict=True)
 
 
@@ -343,7 +385,7 @@ def test_plan_json_for_the_25_course_goals_validates(
     assert "Traceback" not in err
     trees = json.loads(out)
     validate(trees, "task_trees")
-    assert out.startswith("[\n  {\n    \"goal\": {\n      ")  # 2-space indentation
+    assert out.startswith('[\n  {\n    "goal": {\n      ')  # 2-space indentation
     assert len(trees) == 25 and code == (0 if all(t["solved"] for t in trees) else 1)
     kitchen = set(course.kitchen)
     for t, goal in zip(trees, course.goals25, strict=True):
@@ -428,7 +470,7 @@ def test_comparison_json_validates(course: Course, capsys: Capture) -> None:
     doc = json.loads(_foon.write_comparison(course.foon._native, rows, "json"))
     validate(doc, "comparison")
     assert [s["goals"] for s in doc["summary"]] == [6, 5]
-    code, out, err = run(["compare", *course_args(), "--goals", str(DATA / "goal_nodes.json"),
+    _code, out, _err = run(["compare", *course_args(), "--goals", str(DATA / "goal_nodes.json"),
                           "--methods", "ids,bfs", "--json"], capsys)  # fmt: skip
     validate(json.loads(out), "comparison")
 
@@ -440,20 +482,20 @@ def test_verify_json_validates(course: Course, tmp_path: Path, capsys: Capture) 
     goal = json.dumps(course.goals5[2].to_dict())
     args = ["verify", "--foon", str(DATA / "FOON.txt"), "--kitchen", str(DATA / "kitchen.json"),
             "--utensils", str(DATA / "utensils.txt"), "--goal", goal]  # fmt: skip
-    code, out, err = run([*args, str(good), "--json"], capsys)
+    code, out, _err = run([*args, str(good), "--json"], capsys)
     report = json.loads(out)
     validate(report, "verify")
     assert code == 0 and report["valid"] and report["units"] == len(tree.units)
     # The tree as JSON verifies too (a JSON FOON is a tree file like any other).
     as_json = tmp_path / "tree.json"
     as_json.write_text(json.dumps(tree.to_dict()["functional_units"]))
-    code, out2, err = run([*args, str(as_json), "--json"], capsys)
+    code, out2, _err = run([*args, str(as_json), "--json"], capsys)
     assert code == 0 and json.loads(out2)["valid"]
     # A tree that cannot run: its units in reverse order.
     assert len(tree.units) > 1
     bad = tmp_path / "bad.txt"
     bad.write_text(course.foon._native.tree_text(tree.units[::-1]))
-    code, out, err = run([*args, str(bad), "--json"], capsys)
+    code, out, _err = run([*args, str(bad), "--json"], capsys)
     report = json.loads(out)
     validate(report, "verify")
     assert code == 1 and not report["valid"]
@@ -463,16 +505,22 @@ def test_verify_json_validates(course: Course, tmp_path: Path, capsys: Capture) 
 def test_check_and_stats_json_validate(course: Course, capsys: Capture) -> None:
     files = [str(DATA / "FOON.txt"), str(DATA / "subgraphs_sakib_JSON" / "0001-whipped_cream.json"),
              str(DATA / "subgraphs_sakib_TXT" / "0001-whipped_cream.txt")]  # fmt: skip
-    code, out, err = run(["check", *files, "--json"], capsys)
+    _code, out, _err = run(["check", *files, "--json"], capsys)
     found = json.loads(out)
     validate(found, "check")
     want = [
-        {"path": f.path, "line": f.line, "column": f.column, "severity": f.severity,
-         "code": f.code, "message": f.message}  # fmt: skip
+        {
+            "path": f.path,
+            "line": f.line,
+            "column": f.column,
+            "severity": f.severity,
+            "code": f.code,
+            "message": f.message,
+        }
         for f in foon.check(files)
     ]
     assert found == want
-    code, out, err = run(["stats", *files, "--json"], capsys)
+    _code, out, _err = run(["stats", *files, "--json"], capsys)
     rows = json.loads(out)
     validate(rows, "stats")
     assert [r["file"] for r in rows] == files

@@ -91,6 +91,7 @@ def _out(data: bytes, format: str) -> str | bytes:
     """Text formats as str, binary ones (png, pdf) as bytes."""
     return data if FORMATS[format][2] else data.decode("utf-8")
 
+
 _new = object.__new__
 _set = object.__setattr__
 

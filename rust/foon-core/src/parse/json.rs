@@ -165,20 +165,20 @@ fn in_motion<'de, D: serde::Deserializer<'de>>(d: D) -> De<u8, D::Error> {
 
 /// Positions in the text: 1-based line and character column of a byte offset.
 struct Text<'a> {
-    text: &'a str,
+    src: &'a str,
     path: Option<&'a Path>,
     /// Line of `line_at` (counted incrementally for the units' start lines).
     line: u64,
     line_at: usize,
 }
 
-impl<'a> Text<'a> {
+impl Text<'_> {
     fn position(&self, off: usize) -> (u64, u32) {
-        let mut off = off.min(self.text.len());
-        while !self.text.is_char_boundary(off) {
+        let mut off = off.min(self.src.len());
+        while !self.src.is_char_boundary(off) {
             off -= 1;
         }
-        let before = &self.text[..off];
+        let before = &self.src[..off];
         let line = memchr::memchr_iter(b'\n', before.as_bytes()).count() as u64 + 1;
         let start = before.rfind('\n').map_or(0, |i| i + 1);
         (line, before[start..].chars().count() as u32 + 1)
@@ -200,14 +200,14 @@ impl<'a> Text<'a> {
     /// The line of `off`, for offsets that only grow.
     fn line_of(&mut self, off: usize) -> u64 {
         let from = self.line_at.min(off);
-        self.line += memchr::memchr_iter(b'\n', &self.text.as_bytes()[from..off]).count() as u64;
+        self.line += memchr::memchr_iter(b'\n', &self.src.as_bytes()[from..off]).count() as u64;
         self.line_at = off;
         self.line
     }
 
-    /// The error of serde_json `e`, met reading the value that starts at `start`.
+    /// The error of `serde_json` `e`, met reading the value that starts at `start`.
     fn serde_error(&self, start: usize, e: &serde_json::Error) -> Error {
-        let slice = &self.text[start..];
+        let slice = &self.src[start..];
         let line_start = if e.line() <= 1 {
             0
         } else {
@@ -222,7 +222,7 @@ impl<'a> Text<'a> {
             .rsplit_once(" at line ")
             .map_or(msg.as_str(), |(r, _)| r);
         if reason.starts_with("missing field") {
-            off = enclosing_object(self.text, start, off);
+            off = enclosing_object(self.src, start, off);
         }
         self.error(off, reason)
     }
@@ -327,7 +327,7 @@ pub(super) fn parse_impl(
         Err(e) => {
             let valid = std::str::from_utf8(&data[..e.valid_up_to()]).unwrap_or_default();
             let t = Text {
-                text: valid,
+                src: valid,
                 path,
                 line: 1,
                 line_at: 0,
@@ -336,7 +336,7 @@ pub(super) fn parse_impl(
         }
     };
     let mut t = Text {
-        text,
+        src: text,
         path,
         line: 1,
         line_at: 0,
@@ -360,7 +360,7 @@ fn read_units(
     mut errors: Option<&mut Vec<Error>>,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<()> {
-    let text = t.text;
+    let text = t.src;
     let bytes = text.as_bytes();
     let mut i = skip_ws(text, 0);
     match bytes.get(i) {
@@ -445,7 +445,7 @@ fn skip_value(
     let Some(errs) = errors else {
         return Err(err);
     };
-    let mut stream = serde_json::Deserializer::from_str(&t.text[start..]).into_iter::<IgnoredAny>();
+    let mut stream = serde_json::Deserializer::from_str(&t.src[start..]).into_iter::<IgnoredAny>();
     match stream.next() {
         Some(Ok(_)) => {
             errs.push(err);
@@ -473,7 +473,7 @@ fn add_unit(
     let mut ids: Vec<u32> = Vec::new();
     let mut spans: Vec<(u32, u32, u8, usize, usize, usize)> = Vec::new();
     for (k, node) in nodes().enumerate() {
-        let at = || t.at(node_start(t.text, start, k));
+        let at = || t.at(node_start(t.src, start, k));
         let label = b.intern(&node.label);
         let s0 = ids.len();
         for s in &node.states {

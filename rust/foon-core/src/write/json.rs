@@ -1,6 +1,6 @@
 //! Every JSON `foon` writes, through serde, in the shapes of `schema/foon.schema.json`:
-//! task trees ([`JsonTrees`], one object or a streamed list), FOONs in the lab's dialect
-//! ([`write_foon`]), kitchens and goals ([`objects_json`]), comparisons, verify reports
+//! task trees (`JsonTrees`, one object or a streamed list), FOONs in the lab's dialect
+//! (`write_foon`), kitchens and goals ([`objects_json`]), comparisons, verify reports
 //! ([`verify_json`]), check findings ([`check_json`]) and statistics ([`stats_json`]).
 //!
 //! Task trees, comparisons, reports, findings and statistics are indented by 2 spaces;
