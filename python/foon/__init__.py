@@ -91,6 +91,7 @@ def _out(data: bytes, format: str) -> str | bytes:
     """Text formats as str, binary ones (png, pdf) as bytes."""
     return data if FORMATS[format][2] else data.decode("utf-8")
 
+
 _new = object.__new__
 _set = object.__setattr__
 
@@ -286,9 +287,8 @@ class Kitchen:
         return Kitchen(o for o in self.items if o not in gone)
 
     def to_json(self) -> str:
-        import json
-
-        return json.dumps([o.to_dict() for o in self.items], indent=4)
+        """The kitchen as a JSON list of objects (the kitchen file shape)."""
+        return _foon.objects_json(self._tuples())
 
     def _tuples(self) -> list[tuple[str, list[str], list[str], str | None]]:
         if self._cached is None:
@@ -709,34 +709,24 @@ class TaskTree:
             return None
 
     def to_dict(self) -> dict[str, Any]:
-        """The machine-readable form (what ``foon plan --format json`` prints)."""
-        return {
-            "goal": self.goal.to_dict(),
-            "method": self.method,
-            "compat": self.compat,
-            "count": self.count,
-            "solved": self.solved,
-            "units": self.units,
-            "fu_count": self.fu_count,
-            "height": self.height,
-            "success": self.success,
-            "unrated_motion": self.unrated_motion,
-            "cost": self.cost,
-            "leaf_inputs": self.leaf_inputs,
-            "expanded": self.expanded,
-            "peak_frontier": self.peak_frontier,
-            "seconds": self.seconds,
-            "unresolved": [o.to_dict() for o in self.unresolved],
-            "missing": [o.to_dict() for o in self.missing],
-            "cycle": [o.to_dict() for o in self.cycle],
-            "cycle_units": self.cycle_units,
-            "explanation": self.explanation(),
-        }
-
-    def to_json(self, indent: int | None = 2) -> str:
+        """The machine-readable form (what ``foon plan --format json`` prints for a goal):
+        the result and figures, the kitchen items used (``leaves``), the rate each unit used
+        (``rates``), the units in the lab's JSON dialect (``functional_units``) and the
+        FOON's file (``source``); see ``schema/foon.schema.json``."""
         import json
 
-        return json.dumps(self.to_dict(), indent=indent)
+        d: dict[str, Any] = json.loads(self.to_json())
+        return d
+
+    def to_json(self, indent: int | None = 2) -> str:
+        """:meth:`to_dict` as JSON text (written by the core; ``indent`` other than 2
+        re-indents it)."""
+        text = str(self.write("json")).removesuffix("\n")
+        if indent == 2:
+            return text
+        import json
+
+        return json.dumps(json.loads(text), indent=indent)
 
     def is_valid(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> bool:
         """Whether the tree's units, in some order, make the goal from the kitchen (the one
@@ -908,6 +898,12 @@ class Foon:
     def to_text(self) -> str:
         """The whole FOON in the course text form."""
         return self._native.to_text()
+
+    def to_json(self) -> str:
+        """The whole FOON in the lab's JSON dialect (a list of ``{"input_nodes",
+        "motion_node", "output_nodes"}``), with in-motion flags and motion metadata when the
+        source has them: :func:`load` reads it back to an equal FOON."""
+        return str(self.write("json"))
 
     def write(
         self,

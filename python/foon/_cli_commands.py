@@ -518,39 +518,29 @@ def cmd_verify(args: argparse.Namespace) -> int:
     if isinstance(goal, str):
         goal = f.object(f.goal_id(goal))
     tree = load_foon(args.tree, args.strict)
-    r = f.verify(tree, goal, kitchen, utensils)
     if args.json:
         import json
 
-        out = {
-            "valid": r.valid,
-            "units": r.units,
-            "goal_made": r.goal_made,
-            "blocked": None
-            if r.blocked is None
-            else {
-                "position": r.blocked.position,
-                "line": r.blocked.line,
-                "missing": [o.to_dict() for o in r.blocked.missing],
-            },
-            "foreign_units": [{"position": p, "line": ln} for p, ln in r.foreign_units],
-        }
-        sys.stdout.write(json.dumps(out, indent=2) + "\n")
-    else:
-        if r.blocked is not None:
-            b = r.blocked
-            print(
-                f"{args.tree}:{b.line}: unit {b.position + 1} cannot run: needs "
-                + "; ".join(str(o) for o in b.missing)
-                + " (neither in the kitchen nor made by an earlier unit)"
-            )
-        if not r.goal_made:
-            what = "is not an object of the tree" if r.goal_absent else "is never made"
-            print(f"{args.tree}: the goal {goal} {what}")
-        for pos, line in r.foreign_units:
-            print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
-        if r.valid:
-            print(f"{args.tree}: valid: {foon._count(r.units, 'unit')} make {goal}")
+        report = _foon.verify_json(
+            f._native, tree._native, kitchen._tuples(), list(utensils), goal._tuple()
+        )
+        sys.stdout.write(report)
+        return 0 if json.loads(report)["valid"] else 1
+    r = f.verify(tree, goal, kitchen, utensils)
+    if r.blocked is not None:
+        b = r.blocked
+        print(
+            f"{args.tree}:{b.line}: unit {b.position + 1} cannot run: needs "
+            + "; ".join(str(o) for o in b.missing)
+            + " (neither in the kitchen nor made by an earlier unit)"
+        )
+    if not r.goal_made:
+        what = "is not an object of the tree" if r.goal_absent else "is never made"
+        print(f"{args.tree}: the goal {goal} {what}")
+    for pos, line in r.foreign_units:
+        print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
+    if r.valid:
+        print(f"{args.tree}: valid: {foon._count(r.units, 'unit')} make {goal}")
     return 0 if r.valid else 1
 
 
@@ -611,11 +601,8 @@ def cmd_check(args: argparse.Namespace) -> int:
     utensils = foon.load_utensils(args.utensils) if args.utensils else None
     findings = foon.check(files, kitchen=kitchen, motions=motions, utensils=utensils)
     if args.json:
-        import json
-
-        keys = ("path", "line", "column", "severity", "code", "message")
-        items = [{k: getattr(f, k) for k in keys} for f in findings]
-        sys.stdout.write(json.dumps(items, indent=2) + "\n")
+        rows = [(f.path, f.line, f.column, f.severity, f.code, f.message) for f in findings]
+        sys.stdout.write(_foon.check_json(rows))
     else:
         for f in findings:
             print(f)
@@ -634,17 +621,12 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_stats(args: argparse.Namespace) -> int:
-    rows = []
-    for path in args.files:
-        rows.append({"file": path, **load_foon(path, args.strict).stats()})
+    loaded = [(path, load_foon(path, args.strict)) for path in args.files]
     if args.json:
-        import json
-
-        sys.stdout.write(json.dumps(rows, indent=2) + "\n")
+        sys.stdout.write(_foon.stats_json([(path, f._native) for path, f in loaded]))
         return 0
-    for r in rows:
-        print(r["file"])
-        for k, v in r.items():
-            if k != "file":
-                print(f"  {k.replace('_', ' '):<20} {v:>10,}")
+    for path, f in loaded:
+        print(path)
+        for k, v in f.stats().items():
+            print(f"  {k.replace('_', ' '):<20} {v:>10,}")
     return 0

@@ -8,6 +8,7 @@
 mod convert;
 mod errors;
 mod foon;
+mod json;
 mod loaders;
 mod plan;
 mod planner;
@@ -18,6 +19,8 @@ mod writers;
 mod _foon {
     #[pymodule_export]
     use super::foon::PyFoon;
+    #[pymodule_export]
+    use super::json::{check_json, objects_json, stats_json, verify_json};
     #[pymodule_export]
     use super::plan::PyPlan;
     #[pymodule_export]

@@ -10,6 +10,7 @@ mod doc;
 mod dot;
 mod graphml;
 mod html;
+pub mod json;
 pub mod render;
 mod steps;
 mod text;
@@ -257,6 +258,7 @@ impl TreeWriter {
     pub fn new(format: Format, opts: &Options, many: bool) -> Result<Self> {
         let inner: Box<dyn TreeFormat + Send> = match format {
             Format::Text => Box::new(text::TextTrees::new(many)),
+            Format::Json => Box::new(json::JsonTrees::new(many)),
             Format::Steps => Box::new(steps::StepTrees::new(many)),
             Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
                 Box::new(dot::DotTrees::new(format, opts, many))
@@ -322,6 +324,7 @@ pub fn write_foon(
 ) -> Result<()> {
     match format {
         Format::Text => put(out, tree_text(doc.foon, &doc.units()).as_bytes()),
+        Format::Json => json::write_foon(doc, out),
         Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
             dot::write_foon(format, doc, opts, out)
         }
@@ -341,6 +344,7 @@ pub fn write_comparison(
         Format::Text => put(out, compare::table_text(doc).as_bytes()),
         Format::Csv => put(out, compare::table_csv(doc).as_bytes()),
         Format::Html => html::write_comparison(doc, opts, out),
+        Format::Json => json::write_comparison(doc, out),
         f => Err(f.unsupported("a comparison", Format::writes_comparison)),
     }
 }
