@@ -914,6 +914,7 @@ class Foon:
         units: Iterable[int] | None = None,
         kitchen: KitchenLike = None,
         utensils: UtensilsLike = None,
+        motions: MotionsLike = None,
         title: str | None = None,
         max_nodes: int | None = None,
         cost_scale: int | None = None,
@@ -921,12 +922,13 @@ class Foon:
         """The FOON in ``format`` (text, json, dot, svg, png, pdf, pddl, graphml): all of it,
         the ``units`` given, or with ``goal`` and ``depth`` the units within ``depth`` steps
         of the goal (0: the units that make or use it), the goal drawn purple. A ``kitchen``
-        marks its items in pictures and is PDDL's initial state. ``str`` for text formats,
-        ``bytes`` for png and pdf."""
+        marks its items in pictures and is PDDL's initial state; ``motions`` gives the rates
+        written (GraphML, PDDL action costs). ``str`` for text formats, ``bytes`` for png and
+        pdf."""
         focus = None if goal is None else self.goal_id(goal)
         planner = None
-        if kitchen is not None or utensils is not None:
-            planner = self.planner(kitchen, utensils=utensils)._native
+        if kitchen is not None or utensils is not None or motions is not None:
+            planner = self.planner(kitchen, utensils=utensils, motions=motions)._native
         data = _foon.write_foon(
             self._native,
             format,

@@ -1,5 +1,5 @@
 //! Every output format, behind one interface: a [`Format`] (its name, extension and MIME
-//! type) and three writers over [`io::Write`](std::io::Write): [`write_tree`] for a task tree
+//! type) and three writers over [`io::Write`]: [`write_tree`] for a task tree
 //! ([`TreeDoc`]), [`write_foon`] for a whole FOON or a part of it ([`FoonDoc`]) and
 //! [`write_comparison`] for a comparison of methods ([`Comparison`]). The CLI, the Python API
 //! and the tests go through these; nothing else formats output.
