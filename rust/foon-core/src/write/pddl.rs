@@ -17,24 +17,26 @@
 //! - **Actions**: one per unit, named `fu<index>-<motion>` (the unit's index in the FOON,
 //!   then its motion made into a name): a plan maps back to units by that index. The
 //!   precondition is the unit's needed inputs (the container rule applied, see
-//!   SEMANTICS.md), the effect adds its outputs. Nothing is deleted: in FOON an object is a
-//!   state of the world that stays true once made (a unit that chops the onion makes the
-//!   chopped onion; nothing in the task tree semantics consumes the whole onion, and a tree
-//!   may use one object for several units), so the actions have add effects only, exactly
-//!   as a tree is checked (`foon verify`). An output with no state, ingredient or container
-//!   is not indexed as made (course rule), so it is no effect either.
-//! - For a FOON ([`write_foon`]): the units are the goal's ancestry: every unit that makes
-//!   an object, not in the kitchen, that the goal needs, going backwards from the goal
-//!   through every producer and its needed inputs (a kitchen item is not expanded: it is true
-//!   from the start). Units that can never run from the kitchen (a needed input that no
-//!   sequence of units makes, see ranks in SEMANTICS.md) are left out: with add effects only
-//!   this removes no plan. When the FOON document selects some units (`depth`, `units`) the
-//!   ancestry stays within them.
-//! - For a task tree ([`PddlTree`]): the units are the tree's units (the FOON-to-PDDL
-//!   approach: the retrieved tree is handed to a planner, which orders it). The problem is
-//!   solvable exactly when the tree is valid, which every solved tree of a sound method is;
-//!   the planner's plan then uses a subset of the tree's units. The whole goal's problem is
-//!   `write_foon` with the goal in focus.
+//!   SEMANTICS.md), the effect adds its outputs. Nothing is deleted: FOON objects are not
+//!   consumed. A task tree is valid when its units can be ordered so that each one's needed
+//!   inputs are in the kitchen or made by an earlier unit (SEMANTICS.md), and one object may
+//!   feed several units (the cutting board, the knife, a sauce used twice); deleting inputs
+//!   would reject such valid trees and make the planner's plans disagree with `foon verify`.
+//!   With add effects only, the plans are exactly the executable orders of valid trees. An
+//!   output with no state, ingredient or container is not indexed as made (course rule), so
+//!   it is no effect either.
+//! - For a FOON ([`write_foon`](super::write_foon) with the goal in focus): the units are
+//!   the goal's ancestry: every unit that makes an object, not in the kitchen, that the goal
+//!   needs, going backwards from the goal through every producer and its needed inputs (a
+//!   kitchen item is not expanded: it is true from the start). Units that can never run
+//!   from the kitchen (a needed input that no sequence of units makes, see ranks in
+//!   SEMANTICS.md) are left out: with add effects only this removes no plan. When the FOON
+//!   document selects some units (`depth`, `units`) the ancestry stays within them.
+//! - For a task tree ([`TreeWriter`](super::TreeWriter), one tree a document): the units
+//!   are the tree's units (the FOON-to-PDDL approach: the retrieved tree is handed to a
+//!   planner, which orders it). The problem is solvable exactly when the tree is valid,
+//!   which every solved tree of a sound method is; the planner's plan then uses a subset of
+//!   the tree's units. The problem of the goal itself is `write_foon`'s.
 //! - **Initial state**: the kitchen items the problem mentions (the others change nothing).
 //!   **Goal**: the goal object.
 //! - **Costs**: when motion rates were given (a table or a default rate) and
@@ -49,7 +51,8 @@
 //!
 //! The cheapest plan can cost less than the `optimal-success` tree: a tree counts a shared
 //! sub-goal each time it is used, a plan makes it once; they agree when the tree shares no
-//! sub-goal and no cheaper plan shares one (and up to the rounding of each cost).
+//! sub-goal, no cheaper plan shares one, and rounding each cost to an integer makes no other
+//! way cheaper.
 
 use std::fmt::Write as _;
 use std::io;
