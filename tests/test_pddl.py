@@ -347,7 +347,7 @@ def test_course_plans_are_executable_trees_costing_what_optimal_success_trees_co
     course: Course, cref: Ref, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     f, p = course.foon, rated(course)
-    cheaper, by_cli = 0, False
+    cheaper, unshared, by_cli = 0, 0, False
     goals = small_goals(course, cref)
     assert any(not p.plan(g, "optimal-success").solved for g in goals)
     for i, g in enumerate(goals):
@@ -376,9 +376,12 @@ def test_course_plans_are_executable_trees_costing_what_optimal_success_trees_co
         assert sol.cost is not None and sol.cost <= tree, g.label
         if shares_no_subgoal(t):
             assert sol.cost == tree, g.label
+            unshared += 1
         cheaper += sol.cost < tree
     capsys.readouterr()
-    assert cheaper > 0  # the test does reach plans that make a shared sub-goal once
+    # The test reaches both: trees that share nothing, and plans that make a shared
+    # sub-goal once where the tree makes it for each use.
+    assert unshared > 0 and cheaper > 0
 
 
 @pytest.mark.parametrize(("method", "compat"), [("ids", None), ("bfs", "course")])

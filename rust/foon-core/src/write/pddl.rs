@@ -11,7 +11,7 @@
 //!   order, each followed by a comment with the object in its text form. Names are the
 //!   object's text made into a PDDL name: ASCII letters and digits lower-cased, every other
 //!   run of characters one `-`, at most 60 characters; a name that starts with a digit gets
-//!   `o-` in front, an empty one is `object`. A name already taken (by an object with a lower
+//!   `o-` in front, an empty one is `item`. A name already taken (by an object with a lower
 //!   id) or a PDDL word (`and`, `not`, `either`, `total-cost`, ...) gets the first free
 //!   suffix `-2`, `-3`, ... So names are valid, unique and the same for the same input.
 //! - **Actions**: one per unit, named `fu<index>-<motion>` (the unit's index in the FOON,
@@ -150,7 +150,7 @@ fn object_names(foon: &Foon, objects: &[u32]) -> Vec<String> {
         .map(|&o| {
             let mut base = slug(&object_line(foon, o), NAME_MAX);
             if base.is_empty() {
-                base.push_str("object");
+                base.push_str("item");
             } else if base.starts_with(|c: char| c.is_ascii_digit()) {
                 base.insert_str(0, "o-");
             }
@@ -473,6 +473,69 @@ impl TreeFormat for PddlTree {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::{MotionRates, ObjectSpec};
+    use crate::parse::{ParseOptions, parse_foon};
+
+    fn foon(text: &str) -> Foon {
+        parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap()
+    }
+
+    fn item(label: &str, states: &[&str]) -> ObjectSpec {
+        ObjectSpec {
+            label: label.to_owned(),
+            states: states.iter().map(|&s| s.to_owned()).collect(),
+            ..ObjectSpec::default()
+        }
+    }
+
+    #[test]
+    fn names_avoid_pddl_words_and_each_other() {
+        let f = foon(
+            "O\tand\nM\tmix\nO\tand\nS\tx\n//\n\
+             O\tand x\nM\tmix\nO\t7up\nS\t!\n//\n\
+             O\t\u{e9}\nM\tstir\nO\tand\nS\t2\n//\n",
+        );
+        let all: Vec<u32> = (0..f.object_count() as u32).collect();
+        let names = object_names(&f, &all);
+        // and, and (x), and x, 7up (!), é, and (2)
+        assert_eq!(
+            names,
+            ["and-2", "and-x", "and-x-2", "o-7up", "item", "and-2-2"]
+        );
+    }
+
+    #[test]
+    fn a_problem_with_and_without_costs() {
+        let f = foon(
+            "O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n\
+             O\tegg\nS\tcracked\nM\tfry\nO\tegg\nS\tfried\nO\tpan\n//\n",
+        );
+        let kitchen = [item("egg", &["whole"]), item("pan", &[])];
+        let goal = f.goal_by_spec(&item("egg", &["fried"])).unwrap();
+        let rates =
+            MotionRates::from_pairs([("crack".to_owned(), 0.5), ("fry".to_owned(), 1.0)]).unwrap();
+        let opts = Options::default();
+        let plain = Prepared::new(&f, &kitchen, &[], None, None).unwrap();
+        let text = problem_text(&f, &plain, goal, &[0, 1], "x", &[], &opts).unwrap();
+        let (d, p) = split(&text).unwrap();
+        assert!(d.contains(":precondition (and (egg-whole))\n"), "{d}");
+        // A bare output (the pan) is no effect; nothing is deleted.
+        assert!(d.contains(":effect (and (egg-fried))\n"), "{d}");
+        assert!(!d.contains("not") && !d.contains("total-cost"), "{d}");
+        assert!(
+            p.contains("(:init\n    (egg-whole))\n  (:goal (egg-fried))\n"),
+            "{p}"
+        );
+        let rated = Prepared::new(&f, &kitchen, &[], Some(&rates), None).unwrap();
+        let text = problem_text(&f, &rated, goal, &[0, 1], "x", &[], &opts).unwrap();
+        assert!(text.contains("(increase (total-cost) 693))"), "{text}");
+        assert!(text.contains("(increase (total-cost) 0))"), "{text}");
+        assert!(text.contains("(:metric minimize (total-cost))"), "{text}");
+        let partial = MotionRates::from_pairs([("fry".to_owned(), 1.0)]).unwrap();
+        let missing = Prepared::new(&f, &kitchen, &[], Some(&partial), None).unwrap();
+        let err = problem_text(&f, &missing, goal, &[0, 1], "x", &[], &opts).unwrap_err();
+        assert!(matches!(err, Error::MissingRate { ref motion } if motion == "crack"));
+    }
 
     #[test]
     fn slugs_are_pddl_names() {
