@@ -11,6 +11,7 @@ mod dot;
 mod graphml;
 mod html;
 pub mod json;
+pub mod pddl;
 pub mod render;
 mod steps;
 mod text;
@@ -265,6 +266,12 @@ impl TreeWriter {
             }
             Format::Html => Box::new(html::HtmlTrees::new(opts, many)),
             Format::Graphml => Box::new(graphml::GraphmlTrees::new(opts, many)),
+            Format::Pddl if many => {
+                return Err(Error::Invalid(
+                    "PDDL holds one goal's problem: give one goal or --out DIR".to_owned(),
+                ));
+            }
+            Format::Pddl => Box::new(pddl::PddlTree::new(opts)),
             f => return Err(f.unsupported("a task tree", Format::writes_tree)),
         };
         Ok(Self {
@@ -329,6 +336,7 @@ pub fn write_foon(
             dot::write_foon(format, doc, opts, out)
         }
         Format::Graphml => graphml::write_foon(doc, opts, out),
+        Format::Pddl => pddl::write_foon(doc, opts, out),
         f => Err(f.unsupported("a FOON", Format::writes_foon)),
     }
 }
