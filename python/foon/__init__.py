@@ -689,6 +689,12 @@ class TaskTree:
         """The tree's picture as SVG (runs Graphviz's ``dot``)."""
         return str(self.write("svg", title=title))
 
+    def to_pddl(self, *, cost_scale: int | None = None) -> tuple[str, str]:
+        """The tree as a PDDL (domain, problem): one action per unit of the tree, the
+        kitchen as the initial state, the goal as the goal; with motion rates, action costs
+        ``round(-ln(rate) * cost_scale)`` (default 1000; 0: none)."""
+        return _foon.split_pddl(str(self.write("pddl", cost_scale=cost_scale)))
+
     def steps(self) -> list[str]:
         """The numbered plain-English steps, in execution order."""
         return str(self.write("steps")).splitlines()
@@ -941,6 +947,30 @@ class Foon:
             cost_scale=cost_scale,
         )
         return _out(data, format)
+
+    def to_pddl(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike,
+        *,
+        utensils: UtensilsLike = None,
+        motions: MotionsLike = None,
+        depth: int | None = None,
+        cost_scale: int | None = None,
+    ) -> tuple[str, str]:
+        """A PDDL (domain, problem) for making ``goal`` from ``kitchen``: one action per unit
+        of the goal's ancestry that can run (within ``depth`` steps of the goal if given),
+        the kitchen as the initial state; with ``motions``, action costs."""
+        text = self.write(
+            "pddl",
+            goal=goal,
+            depth=depth,
+            kitchen=kitchen,
+            utensils=utensils,
+            motions=motions,
+            cost_scale=cost_scale,
+        )
+        return _foon.split_pddl(str(text))
 
     def to_dot(
         self, *, goal: GoalLike | None = None, depth: int | None = None, title: str | None = None

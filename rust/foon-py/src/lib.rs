@@ -27,7 +27,7 @@ mod _foon {
     use super::planner::PyPlanner;
     #[pymodule_export]
     use super::writers::{
-        PyTreeWriter, explanation, formats, write_comparison, write_foon, write_tree,
+        PyTreeWriter, explanation, formats, split_pddl, write_comparison, write_foon, write_tree,
     };
 
     #[pymodule_export]
