@@ -561,6 +561,7 @@ def test_output_is_the_same_in_chunks(
     for d in (*a, *b):
         d.pop("seconds")
     assert a == b
+
     # The list written item by item is laid out as json.dumps(indent=2) lays out the whole
     # list: the same lines with the same indentation (numbers are written the shortest way,
     # which may differ from Python's float repr, e.g. 1e-5 for 1e-05).
