@@ -108,10 +108,11 @@ def test_several_goals_in_one_picture_have_a_cluster_each() -> None:
 
 def test_pddl_of_several_goals_to_stdout_is_refused_before_any_output() -> None:
     p = cli("plan", "--goals", str(foon.example().paths["goals"]), "--format", "pddl")
-    assert p.returncode != 0
+    assert p.returncode == 2  # a usage error: the command's usage, then why
     assert p.stdout == b""
     err = p.stderr.decode().strip().splitlines()
-    assert len(err) <= 2 and "--out" in err[-1] and "Traceback" not in p.stderr.decode()
+    assert err[0].startswith("usage: foon plan") and "Traceback" not in p.stderr.decode()
+    assert err[-1] == "foon: error: PDDL holds one goal's problem: give one goal or --out DIR"
 
 
 def test_missing_graphviz_is_one_clear_line_and_dot_still_works(tmp_path: Path) -> None:
