@@ -367,13 +367,87 @@ def bench_api(repeat: int) -> None:
           f"{fmt(wall)}, peak RSS {peak / 2**20:,.0f} MB |")  # fmt: skip
 
 
+def pydot_picture(tree: foon.TaskTree) -> str:
+    """The baseline: the picture as scripts build it today, with pydot (one node per object
+    and motion, the same shapes and colours, edges input -> motion -> output)."""
+    import pydot
+
+    g = pydot.Dot("foon", graph_type="digraph")
+    seen: set[int] = set()
+    for k, u in enumerate(tree):
+        m = f"m{u.index}"
+        g.add_node(pydot.Node(m, shape="square", style="filled", fillcolor="red",
+                              label=f"{k + 1}. {u.motion}"))  # fmt: skip
+        for ids, objs, into in ((u.input_ids, u.inputs, True), (u.output_ids, u.outputs, False)):
+            for o, obj in zip(ids, objs, strict=True):
+                if o not in seen:
+                    seen.add(o)
+                    fill = "purple" if o == tree.goal_id else "green"
+                    g.add_node(pydot.Node(f"o{o}", shape="circle", style="filled",
+                                          fillcolor=fill, label=str(obj)))  # fmt: skip
+                g.add_edge(pydot.Edge(f"o{o}", m) if into else pydot.Edge(m, f"o{o}"))
+    return str(g.to_string())
+
+
+def bench_pictures(data: Path, repeat: int) -> None:
+    """Writing the pictures of the 25 course goals (optimal-success trees): the DOT text from
+    the core (`TaskTree.write("dot")`, and `foon plan --format dot --out DIR` as a whole
+    command, start-up and planning included) against building them with pydot; then what
+    Graphviz's own `dot` adds to make SVG files (`--format svg`)."""
+    import shutil
+    import subprocess
+
+    f = foon.load(data / "FOON.txt")
+    kitchen = foon.Kitchen.load(data / "kitchen.json")
+    motions = foon.MotionRates.load(data / "motion.txt")
+    utensils = foon.load_utensils(data / "utensils.txt")
+    goals = foon.load_goals(data / "goal_nodes_25.json")
+    trees = f.plan_many(goals, kitchen, "optimal-success", motions=motions, utensils=utensils)
+    trees = [t for t in trees if t.solved]
+    core = timeit(lambda: [t.write("dot") for t in trees], repeat)
+    base = timeit(lambda: [pydot_picture(t) for t in trees], repeat)
+    print(f"\n### Pictures of the {len(trees)} solved course goals (optimal-success)\n")
+    print("| what | time | vs pydot |")
+    print("|---|---:|---:|")
+    print(f"| pydot (the usual script) | {fmt(base)} | 1.0x |")
+    print(f'| `TaskTree.write("dot")` | {fmt(core)} | {base / core:.0f}x faster |')
+    argv = [sys.executable, "-m", "foon", "plan", "--foon", str(data / "FOON.txt"), "--kitchen",
+            str(data / "kitchen.json"), "--motions", str(data / "motion.txt"), "--utensils",
+            str(data / "utensils.txt"), "--goals", str(data / "goal_nodes_25.json"),
+            "--method", "optimal-success", "-q"]  # fmt: skip
+    for fmt_name in ("dot", "svg"):
+        if fmt_name == "svg" and shutil.which("dot") is None:
+            print("| `foon plan --format svg --out DIR` | (Graphviz not installed) | |")
+            continue
+
+        def whole(kind: str = fmt_name) -> None:
+            with tempfile.TemporaryDirectory() as d:
+                subprocess.run(
+                    [*argv, "--format", kind, "--out", d], check=False, stderr=subprocess.DEVNULL
+                )
+
+        t = timeit(whole, max(1, repeat // 2))
+        what = "start-up and planning included" if fmt_name == "dot" else "Graphviz included"
+        print(f"| `foon plan --format {fmt_name} --out DIR` ({what}) | {fmt(t)} | |")
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--data", type=Path, default=HERE.parent.parent / "shared" / "data" / "foon")
     p.add_argument("--repeat", type=int, default=5)
     p.add_argument(
         "--only",
-        choices=["parse", "plan", "size", "scale", "ladder", "container", "memory", "api"],
+        choices=[
+            "parse",
+            "plan",
+            "size",
+            "scale",
+            "ladder",
+            "container",
+            "memory",
+            "api",
+            "pictures",
+        ],
     )
     p.add_argument(
         "--ladder",
@@ -414,6 +488,8 @@ def main() -> None:
         bench_memory(a.data, a.chain)
     if a.only in (None, "api"):
         bench_api(a.repeat)
+    if a.only in (None, "pictures"):
+        bench_pictures(a.data, a.repeat)
 
 
 if __name__ == "__main__":

@@ -53,3 +53,17 @@ def course() -> Course:
 
 def golden_name(label: str) -> str:
     return label.replace(" ", "_") + ".txt"
+
+
+def need_program(*names: str) -> str:
+    """The first of ``names`` found on PATH; skips the calling test when none is (fails
+    under CI, which installs them)."""
+    import shutil
+
+    for n in names:
+        path = shutil.which(n)
+        if path:
+            return path
+    if os.environ.get("CI"):
+        pytest.fail(f"CI is set but {' / '.join(names)} is not installed")
+    pytest.skip(f"{' / '.join(names)} is not installed")

@@ -91,6 +91,7 @@ def _out(data: bytes, format: str) -> str | bytes:
     """Text formats as str, binary ones (png, pdf) as bytes."""
     return data if FORMATS[format][2] else data.decode("utf-8")
 
+
 _new = object.__new__
 _set = object.__setattr__
 
@@ -286,9 +287,8 @@ class Kitchen:
         return Kitchen(o for o in self.items if o not in gone)
 
     def to_json(self) -> str:
-        import json
-
-        return json.dumps([o.to_dict() for o in self.items], indent=4)
+        """The kitchen as a JSON list of objects (the kitchen file shape)."""
+        return _foon.objects_json(self._tuples())
 
     def _tuples(self) -> list[tuple[str, list[str], list[str], str | None]]:
         if self._cached is None:
@@ -689,9 +689,23 @@ class TaskTree:
         """The tree's picture as SVG (runs Graphviz's ``dot``)."""
         return str(self.write("svg", title=title))
 
+    def to_pddl(self, *, cost_scale: int | None = None) -> tuple[str, str]:
+        """The tree as a PDDL (domain, problem): one action per unit of the tree, the
+        kitchen as the initial state, the goal as the goal; with motion rates, action costs
+        ``round(-ln(rate) * cost_scale)`` (default 1000; 0: none)."""
+        return _foon.split_pddl(str(self.write("pddl", cost_scale=cost_scale)))
+
     def steps(self) -> list[str]:
         """The numbered plain-English steps, in execution order."""
         return str(self.write("steps")).splitlines()
+
+    def to_networkx(self) -> Any:
+        """The tree as a ``networkx.DiGraph``: the object-motion bipartite graph with the
+        attributes of its GraphML (``write("graphml")``). Needs the optional extra
+        ``foon[networkx]`` (:class:`ImportError` without it)."""
+        from foon import _networkx
+
+        return _networkx.from_graphml(str(self.write("graphml")), "TaskTree.to_networkx()")
 
     def _repr_svg_(self) -> str | None:
         """Jupyter shows a tree as its picture (nothing when Graphviz is missing)."""
@@ -701,34 +715,24 @@ class TaskTree:
             return None
 
     def to_dict(self) -> dict[str, Any]:
-        """The machine-readable form (what ``foon plan --format json`` prints)."""
-        return {
-            "goal": self.goal.to_dict(),
-            "method": self.method,
-            "compat": self.compat,
-            "count": self.count,
-            "solved": self.solved,
-            "units": self.units,
-            "fu_count": self.fu_count,
-            "height": self.height,
-            "success": self.success,
-            "unrated_motion": self.unrated_motion,
-            "cost": self.cost,
-            "leaf_inputs": self.leaf_inputs,
-            "expanded": self.expanded,
-            "peak_frontier": self.peak_frontier,
-            "seconds": self.seconds,
-            "unresolved": [o.to_dict() for o in self.unresolved],
-            "missing": [o.to_dict() for o in self.missing],
-            "cycle": [o.to_dict() for o in self.cycle],
-            "cycle_units": self.cycle_units,
-            "explanation": self.explanation(),
-        }
-
-    def to_json(self, indent: int | None = 2) -> str:
+        """The machine-readable form (what ``foon plan --format json`` prints for a goal):
+        the result and figures, the kitchen items used (``leaves``), the rate each unit used
+        (``rates``), the units in the lab's JSON dialect (``functional_units``) and the
+        FOON's file (``source``); see ``schema/foon.schema.json``."""
         import json
 
-        return json.dumps(self.to_dict(), indent=indent)
+        d: dict[str, Any] = json.loads(self.to_json())
+        return d
+
+    def to_json(self, indent: int | None = 2) -> str:
+        """:meth:`to_dict` as JSON text (written by the core; ``indent`` other than 2
+        re-indents it)."""
+        text = str(self.write("json")).removesuffix("\n")
+        if indent == 2:
+            return text
+        import json
+
+        return json.dumps(json.loads(text), indent=indent)
 
     def is_valid(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> bool:
         """Whether the tree's units, in some order, make the goal from the kitchen (the one
@@ -901,6 +905,12 @@ class Foon:
         """The whole FOON in the course text form."""
         return self._native.to_text()
 
+    def to_json(self) -> str:
+        """The whole FOON in the lab's JSON dialect (a list of ``{"input_nodes",
+        "motion_node", "output_nodes"}``), with in-motion flags and motion metadata when the
+        source has them: :func:`load` reads it back to an equal FOON."""
+        return str(self.write("json"))
+
     def write(
         self,
         format: str,
@@ -910,6 +920,7 @@ class Foon:
         units: Iterable[int] | None = None,
         kitchen: KitchenLike = None,
         utensils: UtensilsLike = None,
+        motions: MotionsLike = None,
         title: str | None = None,
         max_nodes: int | None = None,
         cost_scale: int | None = None,
@@ -917,12 +928,13 @@ class Foon:
         """The FOON in ``format`` (text, json, dot, svg, png, pdf, pddl, graphml): all of it,
         the ``units`` given, or with ``goal`` and ``depth`` the units within ``depth`` steps
         of the goal (0: the units that make or use it), the goal drawn purple. A ``kitchen``
-        marks its items in pictures and is PDDL's initial state. ``str`` for text formats,
-        ``bytes`` for png and pdf."""
+        marks its items in pictures and is PDDL's initial state; ``motions`` gives the rates
+        written (GraphML, PDDL action costs). ``str`` for text formats, ``bytes`` for png and
+        pdf."""
         focus = None if goal is None else self.goal_id(goal)
         planner = None
-        if kitchen is not None or utensils is not None:
-            planner = self.planner(kitchen, utensils=utensils)._native
+        if kitchen is not None or utensils is not None or motions is not None:
+            planner = self.planner(kitchen, utensils=utensils, motions=motions)._native
         data = _foon.write_foon(
             self._native,
             format,
@@ -936,11 +948,55 @@ class Foon:
         )
         return _out(data, format)
 
+    def to_pddl(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike,
+        *,
+        utensils: UtensilsLike = None,
+        motions: MotionsLike = None,
+        depth: int | None = None,
+        cost_scale: int | None = None,
+    ) -> tuple[str, str]:
+        """A PDDL (domain, problem) for making ``goal`` from ``kitchen``: one action per unit
+        of the goal's ancestry that can run (within ``depth`` steps of the goal if given),
+        the kitchen as the initial state; with ``motions``, action costs."""
+        text = self.write(
+            "pddl",
+            goal=goal,
+            depth=depth,
+            kitchen=kitchen,
+            utensils=utensils,
+            motions=motions,
+            cost_scale=cost_scale,
+        )
+        return _foon.split_pddl(str(text))
+
     def to_dot(
         self, *, goal: GoalLike | None = None, depth: int | None = None, title: str | None = None
     ) -> str:
         """The FOON (or the neighbourhood of ``goal``) as Graphviz DOT."""
         return str(self.write("dot", goal=goal, depth=depth, title=title))
+
+    def to_networkx(
+        self,
+        *,
+        goal: GoalLike | None = None,
+        depth: int | None = None,
+        units: Iterable[int] | None = None,
+        kitchen: KitchenLike = None,
+        utensils: UtensilsLike = None,
+    ) -> Any:
+        """The FOON (or the part :meth:`write` selects with the same arguments) as a
+        ``networkx.DiGraph``: the object-motion bipartite graph with the attributes of its
+        GraphML. Needs the optional extra ``foon[networkx]`` (:class:`ImportError` without
+        it)."""
+        from foon import _networkx
+
+        text = self.write(
+            "graphml", goal=goal, depth=depth, units=units, kitchen=kitchen, utensils=utensils
+        )
+        return _networkx.from_graphml(str(text), "Foon.to_networkx()")
 
     def producers(self, o: int) -> list[int]:
         return list(self._native.producers(o))

@@ -187,16 +187,51 @@ def _solved(t: foon.TaskTree | NotFound) -> bool:
     return not isinstance(t, NotFound) and t.solved
 
 
+class _Stdout:
+    """Writes a writer's output (UTF-8 text, or the bytes of png and pdf, which are refused
+    on a terminal) to stdout."""
+
+    def __init__(self, format: str) -> None:
+        if foon.FORMATS[format][2] and sys.stdout.isatty():
+            raise UsageError(
+                f"{format} is binary: redirect the output to a file (> FILE) or give --out"
+            )
+
+    def __call__(self, data: bytes) -> None:
+        """Writes ``data`` a piece at a time, so that a reader that goes away (``| head``)
+        stops the command at the next piece."""
+        sys.stdout.flush()
+        out = sys.stdout.buffer
+        for i in range(0, len(data), 1 << 16):
+            out.write(data[i : i + (1 << 16)])
+            out.flush()
+
+
+def _writer_options(args: argparse.Namespace) -> dict[str, Any]:
+    return {
+        "max_nodes": getattr(args, "max_nodes", None),
+        "cost_scale": getattr(args, "cost_scale", None),
+    }
+
+
+def _goal_tuple(g: Goal) -> tuple[tuple[str, list[str], list[str], str | None], bool]:
+    """A goal as the core takes it, and whether only its label was given."""
+    if isinstance(g, str):
+        return (g, [], [], None), True
+    return g._tuple(), False
+
+
 def cmd_plan(args: argparse.Namespace) -> int:
     f, kitchen, motions, utensils, ex = inputs(args)
     goals = read_raw_goals(args, ex)
+    fmt = args.format
+    opts = _writer_options(args)
     out: OutDir | None = None
-    as_json = args.format == "json"
     if args.out is not None:
         labels = [
             g if isinstance(g, str) else g[0] if isinstance(g, tuple) else g.label for g in goals
         ]
-        names = file_names(labels, ".json" if as_json else ".txt")
+        names = file_names(labels, foon.FORMATS[fmt][0])
         try:
             out = OutDir(
                 args.out, names, [args.foon, args.kitchen, args.motions, args.utensils, args.goals]
@@ -204,8 +239,14 @@ def cmd_plan(args: argparse.Namespace) -> int:
         except OutError as e:
             raise CliError(str(e)) from None
     planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
-    write = sys.stdout.write
-    many = len(goals) > 1
+    stream: _foon.TreeWriter | None = None
+    emit: _Stdout | None = None
+    if out is None:
+        # A JSON list even for one goal; the other formats hold one tree as their own
+        # document, and several as one (clusters, sections, `# goal:` lines).
+        stream = _foon.TreeWriter(fmt, fmt == "json" or len(goals) > 1, **opts)
+        emit = _Stdout(fmt)
+        emit(stream.begin())
     failed = 0
     i = 0
     try:
@@ -219,20 +260,21 @@ def cmd_plan(args: argparse.Namespace) -> int:
                 if out is not None:
                     if ok:
                         assert not isinstance(t, NotFound)
-                        out.write(i, t.to_json() + "\n" if as_json else t.to_text())
-                elif as_json:
-                    write(("[\n  " if i == 0 else ",\n  ") + _json_item(t, args))
+                        w = _foon.TreeWriter(fmt, False, **opts)
+                        out.write(i, w.begin() + w.tree(planner._native, t._plan) + w.end())
+                elif isinstance(t, NotFound):
+                    assert stream is not None and emit is not None
+                    goal, label_only = _goal_tuple(t.goal)
+                    emit(stream.failed(goal, label_only, args.method, t.message))
                 else:
-                    if many:
-                        write(f"# goal: {t.goal}\n")
-                    if not isinstance(t, NotFound) and (t.units or t.solved):
-                        write(t.to_text())
+                    assert stream is not None and emit is not None
+                    emit(stream.tree(planner._native, t._plan))
                 if not ok or not args.quiet:
                     notes.append(summary(t) + "\n")
                 i += 1
             sys.stderr.write("".join(notes))
-        if as_json and out is None:
-            write("\n]\n")
+        if stream is not None and emit is not None:
+            emit(stream.end())
         if out is not None:
             out.commit()
     except OutError as e:
@@ -249,87 +291,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
-def _json_item(t: foon.TaskTree | NotFound, args: argparse.Namespace) -> str:
-    """One item of the ``--format json`` list, as ``json.dumps(list, indent=2)`` writes it."""
-    if isinstance(t, NotFound):
-        d = {"goal": t.goal_dict(), "method": args.method, "solved": False, "error": t.message}
-    else:
-        d = t.to_dict()
-    return dumps_indented(d, "  ")
-
-
-def dumps_indented(o: Any, indent: str = "") -> str:
-    """``json.dumps(o, indent=2)`` for a value nested ``indent`` deep (dicts with string
-    keys, lists, strings, numbers, booleans, None), byte for byte; about three times faster
-    than the json module's pure-Python indenting encoder, which ``--format json`` spends most
-    of its time in."""
-    import math
-    from json.encoder import encode_basestring_ascii as string
-
-    def enc(o: Any, ind: str) -> str:
-        if isinstance(o, str):
-            return string(o)
-        if o is None:
-            return "null"
-        if o is True:
-            return "true"
-        if o is False:
-            return "false"
-        if isinstance(o, int):
-            return int.__repr__(o)
-        if isinstance(o, float):
-            if math.isnan(o):
-                return "NaN"
-            if math.isinf(o):
-                return "Infinity" if o > 0 else "-Infinity"
-            return float.__repr__(o)
-        inner = ind + "  "
-        sep = ",\n" + inner
-        if isinstance(o, dict):
-            if not o:
-                return "{}"
-            body = sep.join(string(k) + ": " + enc(v, inner) for k, v in o.items())
-            return "{\n" + inner + body + "\n" + ind + "}"
-        if isinstance(o, list | tuple):
-            if not o:
-                return "[]"
-            if all(type(x) is int for x in o):
-                body = sep.join(map(int.__repr__, o))
-            else:
-                body = sep.join(enc(x, inner) for x in o)
-            return "[\n" + inner + body + "\n" + ind + "]"
-        raise TypeError(f"Object of type {type(o).__name__} is not JSON serializable")
-
-    return enc(o, indent)
-
-
 # --- compare --------------------------------------------------------------------------------
-
-ROW_KEYS = (
-    "goal",
-    "method",
-    "solved",
-    "fu_count",
-    "height",
-    "success",
-    "leaf_inputs",
-    "expanded",
-    "peak_frontier",
-    "seconds",
-    "error",
-)
-SUMMARY_KEYS = (
-    "method",
-    "solved_count",
-    "goals",
-    "fu_count",
-    "height",
-    "success",
-    "leaf_inputs",
-    "expanded",
-    "peak_frontier",
-    "seconds_total",
-)
 
 
 def _methods(text: str | None) -> list[str]:
@@ -359,7 +321,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
         error(summary(nf))
     ids = [r for r in resolved if isinstance(r, int)]
     planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
-    rows: list[dict[str, Any]] = []
+    rows: list[tuple[str, _foon.Plan] | tuple[str, str, str]] = []
     skipped: list[tuple[str, str]] = []
     for m in methods:
         course = (m == "bfs" or args.compat == "course") and not m.startswith("optimal")
@@ -378,132 +340,21 @@ def cmd_compare(args: argparse.Namespace) -> int:
             continue
         for r in resolved:
             if isinstance(r, NotFound):
-                rows.append(
-                    dict.fromkeys(ROW_KEYS)
-                    | {"goal": str(r.goal), "method": name, "solved": False, "error": r.message}
-                )
-                continue
-            t = next(trees)
-            rows.append(
-                {
-                    "goal": str(t.goal),
-                    "method": name,
-                    "solved": t.solved,
-                    "fu_count": t.fu_count if t.solved else None,
-                    "height": t.height,
-                    "success": t.success if t.solved else None,
-                    "leaf_inputs": t.leaf_inputs if t.solved else None,
-                    "expanded": t.expanded,
-                    "peak_frontier": t.peak_frontier,
-                    "seconds": t.seconds,
-                    "error": None,
-                }
-            )
+                rows.append((name, str(r.goal), r.message))
+            else:
+                rows.append((name, next(trees)._plan))
     for m, why in skipped:
         print(
             f"foon: note: {m} skipped: it needs a success rate for every motion "
             f"(give --motions FILE or --default-rate R): {why}",
             file=sys.stderr,
         )
-    summary_rows = _compare_summary(rows)
-    if args.json:
-        import json
-
-        sys.stdout.write(json.dumps({"rows": rows, "summary": summary_rows}, indent=2) + "\n")
-    elif args.csv:
-        import csv
-
-        fields = [*ROW_KEYS, "solved_count", "goals", "seconds_total"]
-        w = csv.DictWriter(sys.stdout, fieldnames=fields)
-        w.writeheader()
-        w.writerows(rows)
-        for srow in summary_rows:
-            w.writerow({"goal": "(all)", **srow})
-    elif rows:
-        _print_compare_table(rows, summary_rows)
+    fmt = args.format or ("json" if args.json else "csv" if args.csv else "text")
+    emit = _Stdout(fmt)
+    emit(_foon.write_comparison(f._native, rows, fmt))
     if not rows:
         error("no method could run")
     return 1 if lost or not rows else 0
-
-
-def _compare_summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Per method: the solved count, the number of goals, means of the tree measures over
-    the solved goals (of ``expanded`` and ``peak_frontier`` over the planned goals) and the
-    total planning time."""
-    out = []
-    for m in dict.fromkeys(r["method"] for r in rows):
-        rs = [r for r in rows if r["method"] == m]
-        planned = [r for r in rs if r["error"] is None]
-        ok = [r for r in rs if r["solved"]]
-
-        def mean(key: str, rows_: list[dict[str, Any]] = ok) -> float | None:
-            vals = [r[key] for r in rows_ if r[key] is not None]
-            return sum(vals) / len(vals) if vals else None
-
-        out.append(
-            {
-                "method": m,
-                "solved_count": len(ok),
-                "goals": len(rs),
-                "fu_count": mean("fu_count"),
-                "height": mean("height"),
-                "success": mean("success"),
-                "leaf_inputs": mean("leaf_inputs"),
-                "expanded": mean("expanded", planned),
-                "peak_frontier": mean("peak_frontier", planned),
-                "seconds_total": sum(r["seconds"] for r in planned),
-            }
-        )
-    return out
-
-
-def _cell(v: Any, kind: str = "") -> str:
-    if v is None:
-        return "-"
-    if kind == "pct":
-        return f"{100 * v:.2f}%"
-    if kind == "ms":
-        return f"{1000 * v:.3f}"
-    if isinstance(v, float):
-        return f"{v:.1f}"
-    return str(v)
-
-
-def _print_compare_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) -> None:
-    head = ["goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms"]
-
-    def cells(first: str, r: dict[str, Any], last: str) -> list[str]:
-        metrics = [_cell(r["fu_count"]), _cell(r["height"]), _cell(r["success"], "pct")]
-        search = [_cell(r["leaf_inputs"]), _cell(r["expanded"]), _cell(r["peak_frontier"])]
-        return [first, r["method"], *metrics, *search, last]
-
-    body = [
-        cells(r["goal"][:48], r, "not found" if r["error"] else _cell(r["seconds"], "ms"))
-        for r in rows
-    ]
-    body += [
-        cells(
-            f"(all: {srow['solved_count']}/{srow['goals']} solved; means, total ms)",
-            srow,
-            _cell(srow["seconds_total"], "ms"),
-        )
-        for srow in summary
-    ]
-    widths = [max(len(x[i]) for x in [head, *body]) for i in range(len(head))]
-
-    def fmt(cells: list[str]) -> str:
-        return "  ".join(
-            c.ljust(w) if i < 2 else c.rjust(w)
-            for i, (c, w) in enumerate(zip(cells, widths, strict=True))
-        )
-
-    line = fmt(head)
-    print(line)
-    print("-" * len(line))
-    for i, row in enumerate(body):
-        if i == len(rows):
-            print("-" * len(line))
-        print(fmt(row))
 
 
 # --- verify ---------------------------------------------------------------------------------
@@ -518,39 +369,29 @@ def cmd_verify(args: argparse.Namespace) -> int:
     if isinstance(goal, str):
         goal = f.object(f.goal_id(goal))
     tree = load_foon(args.tree, args.strict)
-    r = f.verify(tree, goal, kitchen, utensils)
     if args.json:
         import json
 
-        out = {
-            "valid": r.valid,
-            "units": r.units,
-            "goal_made": r.goal_made,
-            "blocked": None
-            if r.blocked is None
-            else {
-                "position": r.blocked.position,
-                "line": r.blocked.line,
-                "missing": [o.to_dict() for o in r.blocked.missing],
-            },
-            "foreign_units": [{"position": p, "line": ln} for p, ln in r.foreign_units],
-        }
-        sys.stdout.write(json.dumps(out, indent=2) + "\n")
-    else:
-        if r.blocked is not None:
-            b = r.blocked
-            print(
-                f"{args.tree}:{b.line}: unit {b.position + 1} cannot run: needs "
-                + "; ".join(str(o) for o in b.missing)
-                + " (neither in the kitchen nor made by an earlier unit)"
-            )
-        if not r.goal_made:
-            what = "is not an object of the tree" if r.goal_absent else "is never made"
-            print(f"{args.tree}: the goal {goal} {what}")
-        for pos, line in r.foreign_units:
-            print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
-        if r.valid:
-            print(f"{args.tree}: valid: {foon._count(r.units, 'unit')} make {goal}")
+        report = _foon.verify_json(
+            f._native, tree._native, kitchen._tuples(), list(utensils), goal._tuple()
+        )
+        sys.stdout.write(report)
+        return 0 if json.loads(report)["valid"] else 1
+    r = f.verify(tree, goal, kitchen, utensils)
+    if r.blocked is not None:
+        b = r.blocked
+        print(
+            f"{args.tree}:{b.line}: unit {b.position + 1} cannot run: needs "
+            + "; ".join(str(o) for o in b.missing)
+            + " (neither in the kitchen nor made by an earlier unit)"
+        )
+    if not r.goal_made:
+        what = "is not an object of the tree" if r.goal_absent else "is never made"
+        print(f"{args.tree}: the goal {goal} {what}")
+    for pos, line in r.foreign_units:
+        print(f"{args.tree}:{line}: note: unit {pos + 1} is not a unit of the FOON")
+    if r.valid:
+        print(f"{args.tree}: valid: {foon._count(r.units, 'unit')} make {goal}")
     return 0 if r.valid else 1
 
 
@@ -611,11 +452,8 @@ def cmd_check(args: argparse.Namespace) -> int:
     utensils = foon.load_utensils(args.utensils) if args.utensils else None
     findings = foon.check(files, kitchen=kitchen, motions=motions, utensils=utensils)
     if args.json:
-        import json
-
-        keys = ("path", "line", "column", "severity", "code", "message")
-        items = [{k: getattr(f, k) for k in keys} for f in findings]
-        sys.stdout.write(json.dumps(items, indent=2) + "\n")
+        rows = [(f.path, f.line, f.column, f.severity, f.code, f.message) for f in findings]
+        sys.stdout.write(_foon.check_json(rows))
     else:
         for f in findings:
             print(f)
@@ -634,17 +472,73 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_stats(args: argparse.Namespace) -> int:
-    rows = []
-    for path in args.files:
-        rows.append({"file": path, **load_foon(path, args.strict).stats()})
+    loaded = [(path, load_foon(path, args.strict)) for path in args.files]
     if args.json:
-        import json
-
-        sys.stdout.write(json.dumps(rows, indent=2) + "\n")
+        sys.stdout.write(_foon.stats_json([(path, f._native) for path, f in loaded]))
         return 0
-    for r in rows:
-        print(r["file"])
-        for k, v in r.items():
-            if k != "file":
-                print(f"  {k.replace('_', ' '):<20} {v:>10,}")
+    for path, f in loaded:
+        print(path)
+        for k, v in f.stats().items():
+            print(f"  {k.replace('_', ' '):<20} {v:>10,}")
     return 0
+
+
+# --- export and draw ------------------------------------------------------------------------
+
+
+def _focus(f: foon.Foon, args: argparse.Namespace) -> int | None:
+    """The object in focus (``--goal JSON`` or ``--label TEXT``), as an object id."""
+    if args.goal is not None:
+        raw = _foon.parse_objects(args.goal, "goal", path="--goal")
+        if len(raw) != 1:
+            raise UsageError("--goal: give exactly one object")
+        return f.goal_id(as_goal(raw[0]))
+    if args.label is not None:
+        return f.goal_id(args.label)
+    return None
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    f = load_foon(args.file, args.strict)
+    focus = _focus(f, args)
+    depth = args.depth
+    if args.cmd == "draw" and focus is not None and depth is None:
+        depth = 1
+    if depth is not None and focus is None:
+        raise UsageError("--depth needs --goal or --label")
+    kitchen = foon.Kitchen.load(args.kitchen) if args.kitchen else None
+    utensils = foon.load_utensils(args.utensils) if args.utensils else None
+    motions = foon.MotionRates.load(args.motions) if args.motions else None
+    planner = None
+    if kitchen is not None or utensils is not None or motions is not None:
+        planner = f.planner(kitchen, utensils=utensils, motions=motions)._native
+    # Written in full before anything reaches the destination: an error leaves no file.
+    data = _foon.write_foon(
+        f._native,
+        args.format,
+        focus=focus,
+        depth=depth,
+        planner=planner,
+        **_writer_options(args),
+    )
+    if args.out is None:
+        _Stdout(args.format)(data)
+        return 0
+    import os
+
+    folder, name = os.path.split(args.out)
+    if not name:
+        raise UsageError(f"--out: {args.out!r} names a folder, not a file")
+    try:
+        out = OutDir(folder or ".", [name], [args.file, args.kitchen, args.utensils, args.motions])
+        try:
+            out.write(0, data)
+            out.commit()
+        finally:
+            out.abort()
+    except OutError as e:
+        raise CliError(str(e)) from None
+    return 0
+
+
+cmd_draw = cmd_export

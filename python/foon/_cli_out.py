@@ -144,8 +144,9 @@ class OutDir:
                 raise OutError(f"{d}: cannot create the folder: {e.strerror or e}") from None
             self._created.append(d)
 
-    def write(self, i: int, text: str) -> None:
-        """Writes the text of goal ``i`` to a temporary file beside its destination."""
+    def write(self, i: int, data: str | bytes) -> None:
+        """Writes the output of goal ``i`` (text as UTF-8, or bytes) to a temporary file
+        beside its destination."""
         if not self._created and not self._temps:
             self._make_folder()
         dest = self.dests[i]
@@ -163,8 +164,8 @@ class OutDir:
             raise OutError(f"{dest}: cannot create a temporary file")
         self._temps[i] = tmp
         try:
-            with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-                fh.write(text)
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data.encode("utf-8") if isinstance(data, str) else data)
         except OSError as e:
             raise OutError(f"{dest}: cannot write: {e.strerror or e}") from None
 

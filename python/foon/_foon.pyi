@@ -16,6 +16,7 @@ __all__ = [
     "TreeWriter",
     "__version__",
     "check",
+    "check_json",
     "check_rates",
     "explanation",
     "formats",
@@ -28,9 +29,13 @@ __all__ = [
     "object_fields_of_mapping",
     "object_identity",
     "object_text",
+    "objects_json",
     "parse_objects",
     "parse_rates",
     "parse_utensils",
+    "split_pddl",
+    "stats_json",
+    "verify_json",
     "write_comparison",
     "write_foon",
     "write_tree",
@@ -197,6 +202,7 @@ def check(
 def formats() -> list[tuple[str, str, str, bool, bool, bool, bool, bool]]:
     """Every format: (name, extension, MIME type, binary, needs `dot`, writes a tree, writes
     a FOON, writes a comparison)."""
+
 def write_tree(
     planner: Planner,
     plan: Plan,
@@ -242,3 +248,11 @@ class TreeWriter:
     def tree(self, planner: Planner, plan: Plan) -> bytes: ...
     def failed(self, goal: _Obj, label_only: bool, method: str, error: str) -> bytes: ...
     def end(self) -> bytes: ...
+
+def objects_json(items: list[_Obj]) -> str: ...
+def verify_json(
+    foon: Foon, tree: Foon, kitchen: list[_Obj], utensils: list[str], goal: _Obj
+) -> str: ...
+def check_json(findings: Sequence[tuple[str | None, int, int, str, str, str]]) -> str: ...
+def stats_json(rows: Sequence[tuple[str, Foon]]) -> str: ...
+def split_pddl(text: str) -> tuple[str, str]: ...

@@ -1,4 +1,5 @@
-"""The ``foon`` command line: ``foon plan``, ``compare``, ``verify``, ``check``, ``stats``.
+"""The ``foon`` command line: ``foon plan``, ``compare``, ``verify``, ``check``, ``stats``,
+``export``, ``draw``.
 
 Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
 stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
@@ -81,7 +82,7 @@ def _folder(text: str) -> str:
 
 
 #: The commands, in the order ``foon --help`` lists them.
-COMMANDS = ("plan", "compare", "verify", "check", "stats")
+COMMANDS = ("plan", "compare", "verify", "check", "stats", "export", "draw")
 
 
 def _columns() -> int:
@@ -167,6 +168,22 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
             "counts of FOON files",
             "Counts of each FOON file (--json: a list, one object per file).",
         ),
+        "export": (
+            "write a FOON in another format",
+            (
+                "Writes a FOON (all of it, or with --goal and --depth the units around one "
+                "object) as JSON, GraphML, DOT, a picture, course text, or (with --goal and "
+                "--kitchen) a PDDL domain and problem."
+            ),
+        ),
+        "draw": (
+            "draw a FOON or the neighbourhood of one object",
+            (
+                "Draws a FOON in the FOON visual language (motions red squares, objects green "
+                "circles, the goal purple): all of it, or with --goal the units within --depth "
+                "steps of the goal. Pictures other than dot run Graphviz's dot."
+            ),
+        ),
     }
     for name in COMMANDS:
         brief, description = about[name]
@@ -211,13 +228,19 @@ def _plan_options(pl: argparse.ArgumentParser) -> None:
         metavar="R",
         help="success rate for motions missing from the table",
     )
-    pl.add_argument("--format", choices=["text", "json"], default="text")
+    pl.add_argument(
+        "--format",
+        choices=_formats(1),
+        default="text",
+        help="output format (default: text, the course form)",
+    )
     pl.add_argument(
         "--out",
         type=_folder,
         metavar="DIR",
         help="write one file per solved goal into DIR (all files or none)",
     )
+    _picture_options(pl)
     pl.add_argument(
         "--threads", type=_threads, metavar="N", help="threads for many goals (default: all cores)"
     )
@@ -240,8 +263,9 @@ def _compare_options(cp: argparse.ArgumentParser) -> None:
     cp.add_argument("--default-rate", type=float, metavar="R")
     cp.add_argument("--threads", type=_threads, metavar="N")
     fmt = cp.add_mutually_exclusive_group()
-    fmt.add_argument("--json", action="store_true", help="machine-readable output")
-    fmt.add_argument("--csv", action="store_true", help="CSV output")
+    fmt.add_argument("--format", choices=_formats(3), default=None, help="default: text")
+    fmt.add_argument("--json", action="store_true", help="the same as --format json")
+    fmt.add_argument("--csv", action="store_true", help="the same as --format csv")
 
 
 def _verify_options(vp: argparse.ArgumentParser) -> None:
@@ -268,12 +292,75 @@ def _stats_options(st: argparse.ArgumentParser) -> None:
     st.add_argument("--strict", action="store_true", help="turn load warnings into errors")
 
 
+def _formats(kind: int) -> list[str]:
+    """The formats that write a task tree (1), a FOON (2) or a comparison (3)."""
+    return [name for name, f in foon.FORMATS.items() if f[3 + kind]]
+
+
+def _count_arg(text: str) -> int:
+    import argparse
+
+    if not (text.isascii() and text.isdigit()):
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    return int(text)
+
+
+def _picture_options(sp: argparse.ArgumentParser) -> None:
+    sp.add_argument(
+        "--max-nodes",
+        type=_count_arg,
+        metavar="N",
+        help="largest picture drawn, in nodes (default: 2000)",
+    )
+    sp.add_argument(
+        "--cost-scale",
+        type=_count_arg,
+        metavar="N",
+        help="pddl: action cost = round(-ln(rate) * N) (default: 1000)",
+    )
+
+
+def _export_options(sp: argparse.ArgumentParser, draw: bool = False) -> None:
+    sp.add_argument("file", metavar="FILE", help="FOON file")
+    pictures = ["svg", "png", "pdf", "dot"]
+    sp.add_argument(
+        "--format",
+        choices=pictures if draw else _formats(2),
+        default="svg" if draw else None,
+        required=not draw,
+        help="default: svg" if draw else "output format",
+    )
+    g = sp.add_mutually_exclusive_group()
+    g.add_argument("--goal", metavar="JSON", help="the object in focus (the goal), as JSON")
+    g.add_argument("--label", metavar="TEXT", help="the object in focus, by a label one has")
+    sp.add_argument(
+        "--depth",
+        type=_count_arg,
+        metavar="N",
+        default=None,
+        help="only the units within N steps of the goal (0: those that make or use it)"
+        + ("; default: 1 with a goal" if draw else ""),
+    )
+    sp.add_argument("--kitchen", metavar="FILE", help="kitchen (marked; PDDL's initial state)")
+    sp.add_argument("--utensils", metavar="FILE", help="utensil list (container rule)")
+    sp.add_argument("--motions", metavar="FILE", help="motion success rates (GraphML, PDDL)")
+    sp.add_argument("-o", "--out", metavar="PATH", help="write to PATH (default: stdout)")
+    sp.add_argument("--strict", action="store_true", help="turn load warnings into errors")
+    _picture_options(sp)
+
+
+def _draw_options(sp: argparse.ArgumentParser) -> None:
+    _export_options(sp, draw=True)
+
+
 _OPTIONS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "plan": _plan_options,
     "compare": _compare_options,
     "verify": _verify_options,
     "check": _check_options,
     "stats": _stats_options,
+    "export": _export_options,
+    "draw": _draw_options,
 }
 
 

@@ -8,6 +8,7 @@
 mod convert;
 mod errors;
 mod foon;
+mod json;
 mod loaders;
 mod plan;
 mod planner;
@@ -19,12 +20,14 @@ mod _foon {
     #[pymodule_export]
     use super::foon::PyFoon;
     #[pymodule_export]
+    use super::json::{check_json, objects_json, stats_json, verify_json};
+    #[pymodule_export]
     use super::plan::PyPlan;
     #[pymodule_export]
     use super::planner::PyPlanner;
     #[pymodule_export]
     use super::writers::{
-        PyTreeWriter, explanation, formats, write_comparison, write_foon, write_tree,
+        PyTreeWriter, explanation, formats, split_pddl, write_comparison, write_foon, write_tree,
     };
 
     #[pymodule_export]

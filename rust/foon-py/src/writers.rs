@@ -271,3 +271,17 @@ pub(crate) fn write_comparison<'py>(
 pub(crate) fn explanation(foon: &PyFoon, plan: &PyPlan) -> String {
     write::explanation_text(&foon.inner, &plan.plan)
 }
+
+/// A PDDL text cut into its domain and its problem.
+#[pyfunction]
+pub(crate) fn split_pddl(text: &str) -> PyResult<(String, String)> {
+    write::pddl::split(text)
+        .map(|(d, p)| (d.to_owned(), p.to_owned()))
+        .ok_or_else(|| {
+            PyFoonErr(foon_core::Error::Invalid(format!(
+                "not a foon PDDL text: no line '{}'",
+                write::pddl::PROBLEM_LINE
+            )))
+            .into()
+        })
+}

@@ -343,7 +343,7 @@ pub(super) fn parse_impl(
 
 /// Reports a fault of `kind` at `at`: in strict mode an error, otherwise a warning (a load
 /// warning or a lint note, per [`WarningKind::is_load_warning`]) that ends with what is done.
-fn report(
+pub(super) fn report(
     b: &mut Builder,
     strict: bool,
     at: Location,

@@ -1,9 +1,10 @@
-//! Parsing: every text input into the model or the index. FOON text ([`parse_foon`]), lists
+//! Parsing: every text input into the model or the index. FOON text or JSON ([`parse_foon`]), lists
 //! of objects (kitchens and goals, [`parse_objects`]), motion tables ([`parse_rates`]) and
 //! utensil lists ([`parse_utensils`]), each with a `load_*` form that reads a file. They share
 //! one line reader and one line grammar (`lines`).
 
 mod foon;
+mod json;
 mod lines;
 mod objects;
 mod rates;
@@ -57,7 +58,8 @@ fn readable_kind(_: std::fs::FileType) -> bool {
     true
 }
 
-/// Parses FOON text into an index.
+/// Parses a FOON into an index: FOON text, or JSON (the lab's dialect, see `json`) when its
+/// first non-blank byte is `[` or `{`.
 pub fn parse_foon(data: &[u8], path: Option<&Path>, opts: ParseOptions) -> Result<Foon> {
     parse_foon_cancellable(data, path, opts, &|| false)
 }
@@ -70,7 +72,22 @@ pub fn parse_foon_cancellable(
     opts: ParseOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Foon> {
-    foon::parse_impl(data, path, opts, None, cancel)
+    parse_any(data, path, opts, None, cancel)
+}
+
+/// The parser the content calls for: JSON (the first non-blank byte is `[` or `{`) or text.
+fn parse_any(
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Foon> {
+    if json::is_json(data) {
+        json::parse_impl(data, path, opts, errors, cancel)
+    } else {
+        foon::parse_impl(data, path, opts, errors, cancel)
+    }
 }
 
 /// Parses FOON text, going on after malformed lines: each error is collected and the unit it
@@ -95,7 +112,7 @@ pub fn parse_foon_recovering_cancellable(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<(Foon, Vec<Error>)> {
     let mut errors = Vec::new();
-    match foon::parse_impl(data, path, opts, Some(&mut errors), cancel) {
+    match parse_any(data, path, opts, Some(&mut errors), cancel) {
         Ok(f) => Ok((f, errors)),
         Err(Error::Cancelled) => Err(Error::Cancelled),
         Err(e) => {

@@ -40,13 +40,6 @@ fn end_position(valid: &[u8]) -> (u64, u32) {
     (line, last.chars().count() as u32 + 1)
 }
 
-fn is_json(data: &[u8]) -> bool {
-    matches!(
-        strip_bom(data).iter().find(|b| !b.is_ascii_whitespace()),
-        Some(b'[' | b'{')
-    )
-}
-
 /// Parses a list of objects: JSON (a list, or one object when `kind` is a goal) or FOON
 /// object blocks (`O`/`S` lines; `//` lines are ignored). The one loader of objects, for
 /// files and for text given on a command line alike (`path` names the source in messages).
@@ -68,7 +61,7 @@ pub(crate) fn parse_objects_noting(
     kind: InputKind,
     notes: &mut Vec<Warning>,
 ) -> Result<Vec<ObjectSpec>> {
-    if !is_json(data) {
+    if !super::json::is_json(data) {
         return parse_object_blocks(data, path, kind, notes);
     }
     let data = strip_bom(data);

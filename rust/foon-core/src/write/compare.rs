@@ -127,3 +127,307 @@ impl Comparison {
         Self { rows, summary }
     }
 }
+
+/// How a table cell shows a figure: `-` when absent, a rate as a percentage with two
+/// decimals, seconds as milliseconds with three, other fractions with one.
+#[derive(Clone, Copy)]
+pub(super) enum Cell {
+    Plain,
+    Percent,
+    Millis,
+}
+
+/// A figure in a table cell (see [`Cell`]); whole numbers as they are.
+pub(super) fn cell_f64(v: Option<f64>, kind: Cell) -> String {
+    match (v, kind) {
+        (None, _) => "-".to_owned(),
+        (Some(v), Cell::Percent) => format!("{:.2}%", 100.0 * v),
+        (Some(v), Cell::Millis) => format!("{:.3}", 1000.0 * v),
+        (Some(v), Cell::Plain) => format!("{v:.1}"),
+    }
+}
+
+pub(super) fn cell_int(v: Option<impl std::fmt::Display>) -> String {
+    v.map_or_else(|| "-".to_owned(), |v| v.to_string())
+}
+
+/// The cells of one table row: goal (or summary text), method, units, height, success,
+/// leaves, expanded, peak frontier and the last cell (milliseconds, or `not found`).
+pub(super) const TABLE_HEAD: [&str; 9] = [
+    "goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms",
+];
+
+impl CompareRow {
+    /// The row's cells under [`TABLE_HEAD`] (the goal cut to 48 characters).
+    pub(super) fn cells(&self) -> [String; 9] {
+        [
+            self.goal.chars().take(48).collect(),
+            self.method.clone(),
+            cell_int(self.fu_count),
+            cell_int(self.height),
+            cell_f64(self.success, Cell::Percent),
+            cell_int(self.leaf_inputs),
+            cell_int(self.expanded),
+            cell_int(self.peak_frontier),
+            if self.error.is_some() {
+                "not found".to_owned()
+            } else {
+                cell_f64(self.seconds, Cell::Millis)
+            },
+        ]
+    }
+}
+
+impl SummaryRow {
+    /// The row's cells under [`TABLE_HEAD`].
+    pub(super) fn cells(&self) -> [String; 9] {
+        [
+            format!(
+                "(all: {}/{} solved; means, total ms)",
+                self.solved_count, self.goals
+            ),
+            self.method.clone(),
+            cell_f64(self.fu_count, Cell::Plain),
+            cell_f64(self.height, Cell::Plain),
+            cell_f64(self.success, Cell::Percent),
+            cell_f64(self.leaf_inputs, Cell::Plain),
+            cell_f64(self.expanded, Cell::Plain),
+            cell_f64(self.peak_frontier, Cell::Plain),
+            cell_f64(Some(self.seconds_total), Cell::Millis),
+        ]
+    }
+}
+
+/// The comparison as a text table: a header, a rule, a row per (method, goal), a rule and a
+/// summary row per method; the first two columns left-aligned, the others right-aligned.
+/// Nothing at all when there is no row.
+pub(super) fn table_text(doc: &Comparison) -> String {
+    if doc.rows.is_empty() {
+        return String::new();
+    }
+    let head = TABLE_HEAD.map(str::to_owned);
+    let body: Vec<[String; 9]> = doc
+        .rows
+        .iter()
+        .map(CompareRow::cells)
+        .chain(doc.summary.iter().map(SummaryRow::cells))
+        .collect();
+    let mut widths = [0usize; 9];
+    for row in std::iter::once(&head).chain(&body) {
+        for (w, c) in widths.iter_mut().zip(row) {
+            *w = (*w).max(c.chars().count());
+        }
+    }
+    let line = |cells: &[String; 9]| {
+        let mut s = String::new();
+        for (i, (c, &w)) in cells.iter().zip(&widths).enumerate() {
+            if i > 0 {
+                s.push_str("  ");
+            }
+            let pad = " ".repeat(w - c.chars().count());
+            if i < 2 {
+                s.push_str(c);
+                s.push_str(&pad);
+            } else {
+                s.push_str(&pad);
+                s.push_str(c);
+            }
+        }
+        s.push('\n');
+        s
+    };
+    let first = line(&head);
+    let rule = format!("{}\n", "-".repeat(first.chars().count() - 1));
+    let mut out = first;
+    out.push_str(&rule);
+    for (i, row) in body.iter().enumerate() {
+        if i == doc.rows.len() {
+            out.push_str(&rule);
+        }
+        out.push_str(&line(row));
+    }
+    out
+}
+
+/// A float as Python's `repr` writes it: the shortest digits that read back to the same
+/// value, in fixed notation when the decimal point falls within 16 digits of the first
+/// digit and after at most 3 leading zeros (`0.0001`, `123.0`), else in exponent notation
+/// with a signed exponent of at least two digits (`1e-05`, `1.5e+16`).
+pub(super) fn py_float(v: f64) -> String {
+    if v.is_nan() {
+        return "nan".to_owned();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 { "inf" } else { "-inf" }.to_owned();
+    }
+    let sci = format!("{:e}", v.abs());
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    let sign = if v.is_sign_negative() { "-" } else { "" };
+    let point = exp + 1;
+    if v == 0.0 {
+        return format!("{sign}0.0");
+    }
+    if point > -4 && point <= 16 {
+        let n = i32::try_from(digits.len()).unwrap_or(i32::MAX);
+        let body = if point <= 0 {
+            format!("0.{}{digits}", "0".repeat(point.unsigned_abs() as usize))
+        } else if point >= n {
+            format!("{digits}{}.0", "0".repeat((point - n) as usize))
+        } else {
+            let (a, b) = digits.split_at(point as usize);
+            format!("{a}.{b}")
+        };
+        format!("{sign}{body}")
+    } else {
+        let (first, rest) = digits.split_at(1);
+        let frac = if rest.is_empty() {
+            String::new()
+        } else {
+            format!(".{rest}")
+        };
+        let esign = if exp < 0 { '-' } else { '+' };
+        format!("{sign}{first}{frac}e{esign}{:02}", exp.unsigned_abs())
+    }
+}
+
+/// A CSV field as Python's `csv` module writes it: quoted (quotes doubled) when it holds a
+/// comma, a quote or a line break.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\r', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_owned()
+    }
+}
+
+fn py_opt_f64(v: Option<f64>) -> String {
+    v.map(py_float).unwrap_or_default()
+}
+
+fn py_opt<T: std::fmt::Display>(v: Option<T>) -> String {
+    v.map(|v| v.to_string()).unwrap_or_default()
+}
+
+/// The comparison as CSV (what Python's `csv.DictWriter` writes, lines ending in CRLF):
+/// the row fields, then `solved_count`, `goals` and `seconds_total`; a row per (method,
+/// goal), then a summary row per method with the goal `(all)`. Absent values are empty,
+/// booleans `True`/`False`, fractions in Python's `repr` form.
+pub(super) fn table_csv(doc: &Comparison) -> String {
+    const HEAD: [&str; 14] = [
+        "goal",
+        "method",
+        "solved",
+        "fu_count",
+        "height",
+        "success",
+        "leaf_inputs",
+        "expanded",
+        "peak_frontier",
+        "seconds",
+        "error",
+        "solved_count",
+        "goals",
+        "seconds_total",
+    ];
+    let mut out = String::new();
+    let mut push = |fields: &[String]| {
+        let line: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
+        out.push_str(&line.join(","));
+        out.push_str("\r\n");
+    };
+    push(&HEAD.map(str::to_owned));
+    for r in &doc.rows {
+        push(&[
+            r.goal.clone(),
+            r.method.clone(),
+            if r.solved { "True" } else { "False" }.to_owned(),
+            py_opt(r.fu_count),
+            py_opt(r.height),
+            py_opt_f64(r.success),
+            py_opt(r.leaf_inputs),
+            py_opt(r.expanded),
+            py_opt(r.peak_frontier),
+            py_opt_f64(r.seconds),
+            r.error.clone().unwrap_or_default(),
+            String::new(),
+            String::new(),
+            String::new(),
+        ]);
+    }
+    for s in &doc.summary {
+        push(&[
+            "(all)".to_owned(),
+            s.method.clone(),
+            String::new(),
+            py_opt_f64(s.fu_count),
+            py_opt_f64(s.height),
+            py_opt_f64(s.success),
+            py_opt_f64(s.leaf_inputs),
+            py_opt_f64(s.expanded),
+            py_opt_f64(s.peak_frontier),
+            String::new(),
+            String::new(),
+            s.solved_count.to_string(),
+            s.goals.to_string(),
+            py_float(s.seconds_total),
+        ]);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floats_read_as_python_writes_them() {
+        for (v, s) in [
+            (0.0, "0.0"),
+            (-0.0, "-0.0"),
+            (1.0, "1.0"),
+            (123.0, "123.0"),
+            (0.5, "0.5"),
+            (0.1, "0.1"),
+            (0.0001, "0.0001"),
+            (0.00001, "1e-05"),
+            (1.5e-7, "1.5e-07"),
+            (2.345_678e-6, "2.345678e-06"),
+            (1e16, "1e+16"),
+            (1_234_567_890_123_456.0, "1234567890123456.0"),
+            (1.5e300, "1.5e+300"),
+            (-0.25, "-0.25"),
+            (0.1 + 0.2, "0.30000000000000004"),
+            (f64::NAN, "nan"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(py_float(v), s, "{v}");
+        }
+    }
+
+    #[test]
+    fn csv_fields_are_quoted_only_when_needed() {
+        assert_eq!(csv_field("onion"), "onion");
+        assert_eq!(csv_field("a, b"), "\"a, b\"");
+        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+        assert_eq!(csv_field("two\nlines"), "\"two\nlines\"");
+    }
+
+    #[test]
+    fn cells_round_half_to_even_as_python_does() {
+        assert_eq!(cell_f64(Some(2.25), Cell::Plain), "2.2");
+        assert_eq!(cell_f64(Some(0.00125), Cell::Percent), "0.12%");
+        assert_eq!(cell_f64(None, Cell::Millis), "-");
+        assert_eq!(cell_int(Some(3u32)), "3");
+        assert_eq!(cell_int(None::<u32>), "-");
+    }
+
+    #[test]
+    fn an_empty_comparison_has_no_table_and_a_csv_header() {
+        let doc = Comparison::new(Vec::new());
+        assert_eq!(table_text(&doc), "");
+        assert_eq!(table_csv(&doc).lines().count(), 1);
+    }
+}

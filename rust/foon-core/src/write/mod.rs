@@ -1,12 +1,17 @@
 //! Every output format, behind one interface: a [`Format`] (its name, extension and MIME
-//! type) and three writers over [`io::Write`](std::io::Write): [`write_tree`] for a task tree
+//! type) and three writers over [`io::Write`]: [`write_tree`] for a task tree
 //! ([`TreeDoc`]), [`write_foon`] for a whole FOON or a part of it ([`FoonDoc`]) and
 //! [`write_comparison`] for a comparison of methods ([`Comparison`]). The CLI, the Python API
 //! and the tests go through these; nothing else formats output.
 
+mod chart;
 mod compare;
 mod doc;
 mod dot;
+mod graphml;
+mod html;
+pub mod json;
+pub mod pddl;
 pub mod render;
 mod steps;
 mod text;
@@ -254,10 +259,19 @@ impl TreeWriter {
     pub fn new(format: Format, opts: &Options, many: bool) -> Result<Self> {
         let inner: Box<dyn TreeFormat + Send> = match format {
             Format::Text => Box::new(text::TextTrees::new(many)),
+            Format::Json => Box::new(json::JsonTrees::new(many)),
             Format::Steps => Box::new(steps::StepTrees::new(many)),
             Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
                 Box::new(dot::DotTrees::new(format, opts, many))
             }
+            Format::Html => Box::new(html::HtmlTrees::new(opts, many)),
+            Format::Graphml => Box::new(graphml::GraphmlTrees::new(opts, many)),
+            Format::Pddl if many => {
+                return Err(Error::Invalid(
+                    "PDDL holds one goal's problem: give one goal or --out DIR".to_owned(),
+                ));
+            }
+            Format::Pddl => Box::new(pddl::PddlTree::new(opts)),
             f => return Err(f.unsupported("a task tree", Format::writes_tree)),
         };
         Ok(Self {
@@ -317,9 +331,12 @@ pub fn write_foon(
 ) -> Result<()> {
     match format {
         Format::Text => put(out, tree_text(doc.foon, &doc.units()).as_bytes()),
+        Format::Json => json::write_foon(doc, out),
         Format::Dot | Format::Svg | Format::Png | Format::Pdf => {
             dot::write_foon(format, doc, opts, out)
         }
+        Format::Graphml => graphml::write_foon(doc, opts, out),
+        Format::Pddl => pddl::write_foon(doc, opts, out),
         f => Err(f.unsupported("a FOON", Format::writes_foon)),
     }
 }
@@ -331,8 +348,13 @@ pub fn write_comparison(
     opts: &Options,
     out: &mut dyn io::Write,
 ) -> Result<()> {
-    let _ = (doc, opts, out);
-    Err(format.unsupported("a comparison", Format::writes_comparison))
+    match format {
+        Format::Text => put(out, compare::table_text(doc).as_bytes()),
+        Format::Csv => put(out, compare::table_csv(doc).as_bytes()),
+        Format::Html => html::write_comparison(doc, opts, out),
+        Format::Json => json::write_comparison(doc, out),
+        f => Err(f.unsupported("a comparison", Format::writes_comparison)),
+    }
 }
 
 /// Writes into a byte buffer (what the bindings hand to Python).

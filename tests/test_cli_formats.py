@@ -1,0 +1,195 @@
+"""The command line's output formats: `foon plan --format`, `--out DIR` with each format's
+extension, `foon export` and `foon draw`, through the core's one writer interface. (What
+each format contains is tested in its own file; here: the plumbing, the file names, the
+errors and that nothing partial is written.)"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import foon
+import pytest
+from conftest import DATA, need_program, need_shared
+
+TREE_FORMATS = [n for n, f in foon.FORMATS.items() if f[4]]
+FOON_FORMATS = [n for n, f in foon.FORMATS.items() if f[5]]
+
+SIGNATURES = {
+    "svg": b"<?xml",
+    "png": b"\x89PNG\r\n\x1a\n",
+    "pdf": b"%PDF",
+    "html": b"<!DOCTYPE html>",
+    "dot": b"digraph",
+    "graphml": b"<?xml",
+    "json": b"",
+    "text": b"//",
+    "steps": b"1. ",
+    "pddl": b"",
+}
+
+
+def cli(*argv: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[bytes]:
+    return subprocess.run(
+        [sys.executable, "-m", "foon", *argv],
+        capture_output=True,
+        check=False,
+        env={**os.environ, **(env or {})},
+        timeout=300,
+    )
+
+
+def course_args() -> list[str]:
+    return [
+        "--foon",
+        str(DATA / "FOON.txt"),
+        "--kitchen",
+        str(DATA / "kitchen.json"),
+        "--utensils",
+        str(DATA / "utensils.txt"),
+        "--motions",
+        str(DATA / "motion.txt"),
+    ]
+
+
+def test_the_format_table_comes_from_the_core() -> None:
+    assert set(SIGNATURES) <= set(foon.FORMATS) | {"text"}
+    for name, (ext, mime, binary, *_) in foon.FORMATS.items():
+        assert ext.startswith(".") and "/" in mime
+        assert binary == (name in ("png", "pdf"))
+
+
+@pytest.mark.parametrize("fmt", TREE_FORMATS)
+def test_plan_writes_every_tree_format_on_the_example(fmt: str) -> None:
+    if foon.FORMATS[fmt][3]:
+        need_program("dot")
+    p = cli("plan", "--format", fmt, "-q")
+    assert p.returncode == 0, p.stderr.decode()
+    assert p.stdout.startswith(SIGNATURES[fmt]), p.stdout[:80]
+    if fmt == "json":
+        (tree,) = json.loads(p.stdout)
+        assert tree["solved"] and tree["units"]
+    if fmt == "steps":
+        lines = p.stdout.decode().splitlines()
+        assert [ln.split(".")[0] for ln in lines] == [str(i + 1) for i in range(len(lines))]
+
+
+@pytest.mark.parametrize("fmt", ["dot", "svg", "png", "steps", "json", "graphml"])
+def test_out_dir_writes_one_file_per_goal_with_the_format_extension(
+    fmt: str, tmp_path: Path
+) -> None:
+    if foon.FORMATS[fmt][3]:
+        need_program("dot")
+    goals = foon.example().paths["goals"]
+    out = tmp_path / "trees"
+    p = cli("plan", "--goals", str(goals), "--format", fmt, "--out", str(out), "-q")
+    ext = foon.FORMATS[fmt][0]
+    files = sorted(out.iterdir())
+    assert files and all(f.suffix == ext for f in files)
+    solved = p.stderr.decode().count("FAILED")
+    assert len(files) == len(foon.load_goals(goals)) - solved
+    for f in files:
+        assert f.read_bytes().startswith(SIGNATURES[fmt])
+        if fmt == "json":
+            assert isinstance(json.loads(f.read_bytes()), dict)
+
+
+def test_several_goals_in_one_picture_have_a_cluster_each() -> None:
+    goals = foon.load_goals(foon.example().paths["goals"])
+    p = cli("plan", "--goals", str(foon.example().paths["goals"]), "--format", "dot", "-q")
+    text = p.stdout.decode()
+    # Every planned goal has its cluster (an unsolved one shows its goal alone).
+    assert text.count("subgraph cluster_") == len(goals)
+    assert text.count("digraph") == 1
+
+
+def test_pddl_of_several_goals_to_stdout_is_refused_before_any_output() -> None:
+    p = cli("plan", "--goals", str(foon.example().paths["goals"]), "--format", "pddl")
+    assert p.returncode != 0
+    assert p.stdout == b""
+    err = p.stderr.decode().strip().splitlines()
+    assert len(err) <= 2 and "--out" in err[-1] and "Traceback" not in p.stderr.decode()
+
+
+def test_missing_graphviz_is_one_clear_line_and_dot_still_works(tmp_path: Path) -> None:
+    env = {"FOON_DOT": str(tmp_path / "no-such-dot")}
+    p = cli("plan", "--format", "svg", env=env)
+    assert p.returncode == 1 and p.stdout == b""
+    (line,) = [ln for ln in p.stderr.decode().splitlines() if ln.startswith("foon: error")]
+    assert "apt-get install graphviz" in line and "--format dot" in line
+    out = tmp_path / "trees"
+    p = cli("plan", "--format", "png", "--out", str(out), env=env)
+    assert p.returncode == 1 and not out.exists()
+    p = cli("plan", "--format", "dot", env=env)
+    assert p.returncode == 0 and p.stdout.startswith(b"digraph")
+
+
+@pytest.mark.parametrize("fmt", [f for f in FOON_FORMATS if f != "pddl"])
+def test_export_writes_a_foon_in_every_format(fmt: str, tmp_path: Path) -> None:
+    if foon.FORMATS[fmt][3]:
+        need_program("dot")
+    ex = foon.example()
+    dest = tmp_path / ("out" + foon.FORMATS[fmt][0])
+    p = cli("export", str(ex.paths["foon"]), "--format", fmt, "-o", str(dest))
+    assert p.returncode == 0, p.stderr.decode()
+    assert dest.read_bytes().startswith(SIGNATURES[fmt])
+    p2 = cli("export", str(ex.paths["foon"]), "--format", fmt)
+    if fmt not in ("svg", "png", "pdf"):  # Graphviz stamps nothing, but keep it to text
+        assert p2.stdout == dest.read_bytes()
+
+
+def test_export_pddl_needs_a_goal() -> None:
+    ex = foon.example()
+    p = cli("export", str(ex.paths["foon"]), "--format", "pddl")
+    assert p.returncode != 0 and p.stdout == b""
+    assert "goal" in p.stderr.decode() and "Traceback" not in p.stderr.decode()
+    g = json.dumps(ex.goals[0].to_dict())
+    p = cli(
+        "export",
+        str(ex.paths["foon"]),
+        "--format",
+        "pddl",
+        "--goal",
+        g,
+        "--kitchen",
+        str(ex.paths["kitchen"]),
+        "--utensils",
+        str(ex.paths["utensils"]),
+    )
+    assert p.returncode == 0, p.stderr.decode()
+    assert b"(define" in p.stdout
+
+
+def test_draw_a_neighbourhood_and_refuse_the_whole_course_foon(tmp_path: Path) -> None:
+    need_shared()
+    need_program("dot")
+    dest = tmp_path / "salad.svg"
+    p = cli("draw", str(DATA / "FOON.txt"), "--label", "greek salad", "-o", str(dest))
+    assert p.returncode == 0, p.stderr.decode()
+    assert dest.read_bytes().startswith(b"<?xml") and b"greek salad" in dest.read_bytes()
+    big = tmp_path / "all.svg"
+    p = cli("draw", str(DATA / "FOON.txt"), "-o", str(big))
+    assert p.returncode == 1 and not big.exists()
+    msg = p.stderr.decode()
+    assert "--goal" in msg and "--depth" in msg and "--max-nodes" in msg
+
+
+def test_draw_depth_without_a_goal_is_a_usage_error() -> None:
+    p = cli("draw", str(foon.example().paths["foon"]), "--depth", "2")
+    assert p.returncode == 2 and "--depth needs --goal" in p.stderr.decode()
+
+
+def test_export_to_a_folder_name_is_refused(tmp_path: Path) -> None:
+    p = cli("export", str(foon.example().paths["foon"]), "--format", "dot", "-o", f"{tmp_path}/")
+    assert p.returncode == 2 and "names a folder" in p.stderr.decode()
+
+
+def test_export_never_overwrites_its_input(tmp_path: Path) -> None:
+    src = tmp_path / "f.foon"
+    src.write_bytes(foon.example().paths["foon"].read_bytes())
+    before = src.read_bytes()
+    p = cli("export", str(src), "--format", "text", "-o", str(src))
+    assert p.returncode == 1 and src.read_bytes() == before
