@@ -276,7 +276,7 @@ fn document(title: &str, seen: Seen, body: &str) -> String {
     );
     out.push_str(
         "  node [fontname=\"Helvetica\", fontsize=10, style=filled, color=\"#333333\"];\n  \
-         edge [color=\"#444444\", arrowsize=0.7];\n",
+         edge [color=\"#444444\", arrowsize=0.7, fontname=\"Helvetica\"];\n",
     );
     out.push_str(&legend(seen));
     out.push_str(body);
