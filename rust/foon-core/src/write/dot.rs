@@ -8,8 +8,9 @@
 //! - Kitchen items are drawn with a double border: in a tree, the kitchen items it uses as
 //!   leaves ([`TreeDoc::leaves`]); in a FOON picture with planning inputs, every kitchen item.
 //! - Arrows go input → motion → output (one arrow per distinct object of a unit).
-//! - A legend (a cluster named `cluster_legend`) says what the shapes and colours mean; it
-//!   lists the goal and the double border only when the picture has them.
+//! - A legend (a cluster named `clusterlegend`) says what the shapes and colours mean; it
+//!   lists the goal and the double border only when the picture has them. Its name has no
+//!   `cluster_` so that the `cluster_` names are those of the picture's content.
 //!
 //! Every node carries an SVG class that survives rendering (`class="node motion"` in the
 //! SVG): `motion` for motions, `object` for objects, plus `goal` for the goal and `leaf` for
@@ -226,7 +227,7 @@ impl Part<'_> {
 /// The legend: a cluster of sample nodes (class `legend`) for what the picture has.
 fn legend(seen: Seen) -> String {
     let mut out = String::from(
-        "  subgraph cluster_legend {\n    label=\"legend\";\n    style=rounded;\n    \
+        "  subgraph clusterlegend {\n    label=\"legend\";\n    style=rounded;\n    \
          color=\"#aaaaaa\";\n    fontsize=10;\n",
     );
     let mut item = |name: &str, attrs: &str, label: &str| {
