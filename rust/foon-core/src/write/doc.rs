@@ -1,6 +1,7 @@
 //! What the writers write: a task tree with everything its formats need ([`TreeDoc`]), and
 //! a FOON or a part of it ([`FoonDoc`]).
 
+use crate::error::{Error, Result};
 use crate::index::{Foon, NONE};
 use crate::prepare::Prepared;
 use crate::search::Plan;
@@ -85,16 +86,44 @@ impl<'a> FoonDoc<'a> {
         }
     }
 
-    /// The units within `depth` steps of `focus` (a step goes from an object to a unit that
-    /// makes or uses it, and on to that unit's other objects); `depth` 0 selects the units
-    /// that make or use `focus`.
+    /// The units within `depth` steps of `focus` (see [`neighbourhood`]), `focus` drawn as
+    /// the goal. An object id out of range gives a document that [`check`](Self::check)
+    /// (and so every writer) refuses.
     pub fn around(foon: &'a Foon, focus: u32, depth: u32) -> Self {
         Self {
             foon,
-            units: Some(neighbourhood(foon, focus, depth)),
+            units: Some(neighbourhood(foon, focus, depth).unwrap_or_default()),
             focus: Some(focus),
             prep: None,
         }
+    }
+
+    /// The same as [`around`](Self::around), with an out-of-range object id as an error.
+    pub fn try_around(foon: &'a Foon, focus: u32, depth: u32) -> Result<Self> {
+        let units = neighbourhood(foon, focus, depth)?;
+        Ok(Self {
+            foon,
+            units: Some(units),
+            focus: Some(focus),
+            prep: None,
+        })
+    }
+
+    /// Checks that the object in focus and the units are in the FOON (writers call this
+    /// first, so a bad id is an error, never an empty or partial picture).
+    pub fn check(&self) -> Result<()> {
+        if let Some(o) = self.focus {
+            check_object(self.foon, o)?;
+        }
+        if let Some(units) = &self.units {
+            let n = self.foon.fu_count();
+            if let Some(&u) = units.iter().find(|&&u| u as usize >= n) {
+                return Err(Error::Invalid(format!(
+                    "unit {u} is out of range (the FOON has {n} units)"
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// The units written, in FOON order.
@@ -111,26 +140,63 @@ impl<'a> FoonDoc<'a> {
     }
 }
 
-/// The units within `depth` steps of `focus`, in FOON order (breadth-first over the
-/// object–unit graph, both directions).
-pub fn neighbourhood(foon: &Foon, focus: u32, depth: u32) -> Vec<u32> {
-    if focus == NONE || focus as usize >= foon.object_count() {
-        return Vec::new();
+fn check_object(foon: &Foon, o: u32) -> Result<()> {
+    let n = foon.object_count();
+    if o == NONE || o as usize >= n {
+        return Err(Error::Invalid(format!(
+            "object {o} is out of range (the FOON has {n} objects)"
+        )));
     }
-    let mut fu_seen = vec![false; foon.fu_count()];
-    let mut obj_seen = vec![false; foon.object_count()];
+    Ok(())
+}
+
+/// The units within `depth` steps of the object `focus`, in FOON order: breadth-first over
+/// the object–unit graph in both directions, a step going from an object to a unit that
+/// makes or uses it (has it as an output or an input). Depth 0 selects the units that make or use `focus`; depth `d + 1` adds
+/// the units that make or use any object of a unit selected at depth `d`. An object id out
+/// of range is an error.
+pub fn neighbourhood(foon: &Foon, focus: u32, depth: u32) -> Result<Vec<u32>> {
+    check_object(foon, focus)?;
+    // Where each object appears (as an input or an output), unit by unit. Not the FOON's
+    // producer lists: they leave out units whose output has no state, ingredient or
+    // container (the course rule), which still make that object in the picture.
+    let (n_obj, n_fu) = (foon.object_count(), foon.fu_count());
+    let mut start = vec![0u32; n_obj + 1];
+    let objects_of = |f: u32| foon.inputs(f).iter().chain(foon.outputs(f)).copied();
+    for f in 0..n_fu as u32 {
+        for o in objects_of(f) {
+            start[o as usize + 1] += 1;
+        }
+    }
+    for i in 0..n_obj {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut appears = vec![0u32; start[n_obj] as usize];
+    for f in 0..n_fu as u32 {
+        for o in objects_of(f) {
+            appears[fill[o as usize] as usize] = f;
+            fill[o as usize] += 1;
+        }
+    }
+    let mut fu_seen = vec![false; n_fu];
+    let mut obj_seen = vec![false; n_obj];
     obj_seen[focus as usize] = true;
     let mut frontier = vec![focus];
     for level in 0..=depth {
+        if frontier.is_empty() {
+            break;
+        }
         let mut next = Vec::new();
         for &o in &frontier {
-            for &f in foon.producers(o).iter().chain(foon.consumers(o)) {
+            let row = &appears[start[o as usize] as usize..start[o as usize + 1] as usize];
+            for &f in row {
                 if fu_seen[f as usize] {
                     continue;
                 }
                 fu_seen[f as usize] = true;
                 if level < depth {
-                    for &x in foon.inputs(f).iter().chain(foon.outputs(f)) {
+                    for x in objects_of(f) {
                         if !obj_seen[x as usize] {
                             obj_seen[x as usize] = true;
                             next.push(x);
@@ -141,7 +207,7 @@ pub fn neighbourhood(foon: &Foon, focus: u32, depth: u32) -> Vec<u32> {
         }
         frontier = next;
     }
-    (0..foon.fu_count() as u32)
+    Ok((0..foon.fu_count() as u32)
         .filter(|&f| fu_seen[f as usize])
-        .collect()
+        .collect())
 }
