@@ -52,6 +52,7 @@ __version__: str = _foon.__version__
 
 __all__ = [
     "FORMATS",
+    "MAX_PICTURE_NODES",
     "METHODS",
     "Blocked",
     "Example",
@@ -85,6 +86,11 @@ METHODS: tuple[str, ...] = tuple(_foon.methods())
 FORMATS: dict[str, tuple[str, str, bool, bool, bool, bool, bool]] = {
     f[0]: f[1:] for f in _foon.formats()
 }
+
+
+#: Pictures (svg, png, pdf, html) refuse graphs of more nodes (objects + motions) than this
+#: unless given a larger ``max_nodes``: Graphviz takes minutes on them.
+MAX_PICTURE_NODES: int = _foon.MAX_PICTURE_NODES
 
 
 def _out(data: bytes, format: str) -> str | bytes:

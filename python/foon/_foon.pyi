@@ -5,6 +5,7 @@ from collections.abc import Iterable, Sequence
 from typing import Any, TypeAlias, final
 
 __all__ = [
+    "MAX_PICTURE_NODES",
     "Foon",
     "FoonError",
     "GoalNotFoundError",
@@ -42,6 +43,7 @@ __all__ = [
 ]
 
 __version__: str
+MAX_PICTURE_NODES: int
 
 _Obj: TypeAlias = tuple[str, list[str], list[str], str | None]
 _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]

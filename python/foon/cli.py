@@ -310,7 +310,7 @@ def _picture_options(sp: argparse.ArgumentParser) -> None:
         "--max-nodes",
         type=_count_arg,
         metavar="N",
-        help="largest picture drawn, in nodes (default: 2000)",
+        help=f"largest picture drawn, in nodes (default: {foon.MAX_PICTURE_NODES:,})",
     )
     sp.add_argument(
         "--cost-scale",

@@ -44,6 +44,7 @@ mod _foon {
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
         use pyo3::types::PyModuleMethods;
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        m.add("MAX_PICTURE_NODES", foon_core::write::render::MAX_NODES)?;
         Ok(())
     }
 }
