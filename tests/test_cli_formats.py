@@ -42,19 +42,6 @@ def cli(*argv: str, env: dict[str, str] | None = None) -> subprocess.CompletedPr
     )
 
 
-def course_args() -> list[str]:
-    return [
-        "--foon",
-        str(DATA / "FOON.txt"),
-        "--kitchen",
-        str(DATA / "kitchen.json"),
-        "--utensils",
-        str(DATA / "utensils.txt"),
-        "--motions",
-        str(DATA / "motion.txt"),
-    ]
-
-
 def test_the_format_table_comes_from_the_core() -> None:
     assert set(SIGNATURES) <= set(foon.FORMATS) | {"text"}
     for name, (ext, mime, binary, *_) in foon.FORMATS.items():
