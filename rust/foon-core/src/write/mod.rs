@@ -272,7 +272,7 @@ impl TreeWriter {
                 ));
             }
             Format::Pddl => Box::new(pddl::PddlTree::new(opts)),
-            f => return Err(f.unsupported("a task tree", Format::writes_tree)),
+            f @ Format::Csv => return Err(f.unsupported("a task tree", Format::writes_tree)),
         };
         Ok(Self {
             format,
