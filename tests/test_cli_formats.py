@@ -181,3 +181,14 @@ def test_export_never_overwrites_its_input(tmp_path: Path) -> None:
     before = src.read_bytes()
     p = cli("export", str(src), "--format", "text", "-o", str(src))
     assert p.returncode == 1 and src.read_bytes() == before
+
+
+@pytest.mark.parametrize("fmt", ["dot", "steps", "graphml", "pddl", "text"])
+def test_an_unsolved_single_goal_writes_no_document(fmt: str) -> None:
+    ex = foon.example()
+    goals = foon.load_goals(ex.paths["goals"])
+    trees = ex.foon.plan_many(goals, ex.kitchen, motions=ex.motions, utensils=ex.utensils)
+    unsolved = next(g for g, t in zip(goals, trees, strict=True) if not t.solved)
+    p = cli("plan", "--goal", json.dumps(unsolved.to_dict()), "--format", fmt)
+    assert p.returncode == 1 and p.stdout == b""
+    assert "FAILED" in p.stderr.decode()

@@ -241,12 +241,15 @@ def cmd_plan(args: argparse.Namespace) -> int:
     planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
     stream: _foon.TreeWriter | None = None
     emit: _Stdout | None = None
+    many = fmt == "json" or len(goals) > 1
     if out is None:
         # A JSON list even for one goal; the other formats hold one tree as their own
-        # document, and several as one (clusters, sections, `# goal:` lines).
-        stream = _foon.TreeWriter(fmt, fmt == "json" or len(goals) > 1, **opts)
+        # document (written only when the goal is solved: no picture of nothing), and
+        # several as one (clusters, sections, `# goal:` lines).
+        stream = _foon.TreeWriter(fmt, many, **opts)
         emit = _Stdout(fmt)
-        emit(stream.begin())
+        if many:
+            emit(stream.begin())
     failed = 0
     i = 0
     try:
@@ -262,6 +265,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
                         assert not isinstance(t, NotFound)
                         w = _foon.TreeWriter(fmt, False, **opts)
                         out.write(i, w.begin() + w.tree(planner._native, t._plan) + w.end())
+                elif not many:
+                    assert stream is not None and emit is not None
+                    if ok:
+                        assert not isinstance(t, NotFound)
+                        doc = stream.begin() + stream.tree(planner._native, t._plan)
+                        emit(doc + stream.end())
                 elif isinstance(t, NotFound):
                     assert stream is not None and emit is not None
                     goal, label_only = _goal_tuple(t.goal)
@@ -273,7 +282,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
                     notes.append(summary(t) + "\n")
                 i += 1
             sys.stderr.write("".join(notes))
-        if stream is not None and emit is not None:
+        if stream is not None and emit is not None and many:
             emit(stream.end())
         if out is not None:
             out.commit()
