@@ -192,3 +192,33 @@ def test_an_unsolved_single_goal_writes_no_document(fmt: str) -> None:
     p = cli("plan", "--goal", json.dumps(unsolved.to_dict()), "--format", fmt)
     assert p.returncode == 1 and p.stdout == b""
     assert "FAILED" in p.stderr.decode()
+
+
+def test_compare_writes_every_comparison_format() -> None:
+    ex = foon.example()
+    base = ["compare", "--goals", str(ex.paths["goals"]), "--methods", "ids,optimal-units"]
+    outs = {}
+    for fmt in [n for n, f in foon.FORMATS.items() if f[6]]:
+        if foon.FORMATS[fmt][3]:
+            need_program("dot")
+        p = cli(*base, "--format", fmt)
+        assert p.returncode == 0, p.stderr.decode()
+        outs[fmt] = p.stdout
+    assert outs["html"].startswith(b"<!DOCTYPE html>") and b"optimal-units" in outs["html"]
+    rows = json.loads(outs["json"])["rows"]
+    assert len(rows) == 2 * len(foon.load_goals(ex.paths["goals"]))
+
+    # --json and --csv are the same as --format json|csv (the timings aside).
+    def untimed(data: bytes) -> object:
+        d = json.loads(data)
+        for r in d["rows"]:
+            r.pop("seconds")
+        for r in d["summary"]:
+            r.pop("seconds_total")
+        return d
+
+    assert untimed(cli(*base, "--json").stdout) == untimed(outs["json"])
+    csv_alias = cli(*base, "--csv").stdout.splitlines()
+    assert csv_alias[0] == outs["csv"].splitlines()[0]
+    assert len(csv_alias) == len(outs["csv"].splitlines())
+    assert outs["text"].decode().splitlines()[0].split()[:2] == ["goal", "method"]
