@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -119,3 +120,57 @@ def test_with_stdout_closed_files_are_still_written(tmp_path: Path) -> None:
     p = cli("export", str(EXAMPLE["foon"]), "--format", "json", "-o", str(out), close_stdout=True)
     assert p.returncode == 0, p.stderr.decode()
     assert foon.load(out).fu_count == foon.load(EXAMPLE["foon"]).fu_count
+
+
+# --- a dot program that exits 0 without a picture ------------------------------------------
+
+
+BROKEN_DOTS = {
+    "silent": "cat >/dev/null",
+    "garbage": "cat >/dev/null; echo garbage",
+    "cut": 'cat >/dev/null; printf \'<?xml version="1.0"?>\\n<svg width="1">\\n\'',
+    "wrong-kind": "cat >/dev/null; printf '<svg></svg>\\n'",
+}
+
+
+def broken_dot(tmp_path: Path, name: str) -> str:
+    path = tmp_path / f"dot-{name}"
+    path.write_text(f"#!/bin/sh\n{BROKEN_DOTS[name]}\n")
+    path.chmod(path.stat().st_mode | stat.S_IXUSR)
+    return str(path)
+
+
+@pytest.mark.parametrize("name", sorted(BROKEN_DOTS))
+@pytest.mark.parametrize("fmt", ["svg", "png", "pdf", "html"])
+def test_a_dot_that_writes_no_picture_is_an_error(tmp_path: Path, name: str, fmt: str) -> None:
+    if name == "wrong-kind" and fmt in ("svg", "html"):
+        pytest.skip("an SVG is the right kind here")
+    env = {"FOON_DOT": broken_dot(tmp_path, name)}
+    p = cli("plan", "--format", fmt, "-q", env=env)
+    assert p.returncode == 1
+    assert p.stdout == b""
+    assert f"for -T{'svg' if fmt == 'html' else fmt}" in one_error_line(p)
+    # --out: no file either.
+    out = tmp_path / "out"
+    p = cli("plan", "--format", fmt, "-q", "--out", str(out), env=env)
+    assert p.returncode == 1
+    assert not out.exists() or not any(out.iterdir())
+    if fmt != "html":
+        p = cli("draw", str(EXAMPLE["foon"]), "--format", fmt, env=env)
+        assert p.returncode == 1 and p.stdout == b""
+        one_error_line(p)
+
+
+def test_a_dot_that_writes_no_picture_is_an_output_error_in_python(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    ex = foon.example()
+    tree = ex.foon.planner(ex.kitchen, motions=ex.motions, utensils=ex.utensils).plan(
+        ex.goals[0], "ids"
+    )
+    monkeypatch.setenv("FOON_DOT", broken_dot(tmp_path, "silent"))
+    with pytest.raises(foon.OutputError, match="wrote nothing"):
+        tree.to_svg()
+    assert tree._repr_svg_() is None
+    with pytest.raises(foon.OutputError, match="wrote nothing"):
+        ex.foon.write("png")
