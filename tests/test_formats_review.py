@@ -174,3 +174,19 @@ def test_a_dot_that_writes_no_picture_is_an_output_error_in_python(
     assert tree._repr_svg_() is None
     with pytest.raises(foon.OutputError, match="wrote nothing"):
         ex.foon.write("png")
+
+
+# --- the size message of a picture names the command's own options -------------------------
+
+
+def test_a_tree_picture_too_large_says_how_plan_narrows_it() -> None:
+    p = cli("plan", "--goals", str(EXAMPLE["goals"]), "--format", "svg", "--max-nodes", "5")
+    assert p.returncode == 1 and p.stdout == b""
+    msg = one_error_line(p)
+    # `foon plan` has no --depth (a usage error): it narrows by drawing fewer trees.
+    assert "--out DIR" in msg and "--max-nodes" in msg
+    assert "--depth" not in msg
+    p = cli("draw", str(EXAMPLE["foon"]), "--max-nodes", "5")
+    assert p.returncode == 1
+    msg = one_error_line(p)
+    assert "--goal" in msg and "--depth" in msg
