@@ -11,10 +11,15 @@ import os
 import stat
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import foon
 import pytest
+from conftest import need_program
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_json import validate
 
 EXAMPLE = foon.example().paths
 GOAL = json.dumps(
@@ -190,3 +195,78 @@ def test_a_tree_picture_too_large_says_how_plan_narrows_it() -> None:
     assert p.returncode == 1
     msg = one_error_line(p)
     assert "--goal" in msg and "--depth" in msg
+
+
+# --- characters FOON text holds --------------------------------------------------------------
+
+#: Control characters FOON text holds (all but NUL, the line feed and the TAB separator), C1
+#: included, and characters XML cannot hold.
+ODD = [chr(c) for c in range(1, 32) if chr(c) not in "\t\n"] + ["\x7f", "\x85", "\x9f"]
+ODD += ["\ufffe", "\uffff", "\u2028", "\ufeff", "\u200b", '"', "\\", "<", "&", "{", "}"]
+ODD_TEXT = st.text(st.sampled_from(ODD) | st.sampled_from("ab é"), min_size=1, max_size=6)
+
+
+def odd_foon(label: str, state: str, ingredient: str, container: str, motion: str) -> str:
+    # Fields start and end with a letter: text strips the ends of labels, states, motions.
+    label, state, motion = (f"a{t}z" for t in (label, state, motion))
+    ingredient = f"i{ingredient.replace(',', '')}z"
+    return (
+        f"//\nO\t{label}\nS\t{state}\nS\tcontains\t{{{ingredient}}}\nS\tin\t[c{container}z]\n"
+        f"O\tknife\nM\t{motion}\t<{container}>\nO\t{label}\nS\tcut\n//\n"
+    )
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(label=ODD_TEXT, state=ODD_TEXT, ingredient=ODD_TEXT, container=ODD_TEXT, motion=ODD_TEXT)
+def test_what_text_loads_round_trips_through_json_and_validates(
+    label: str, state: str, ingredient: str, container: str, motion: str
+) -> None:
+    """A FOON that loads from text is written as JSON that follows the schema and loads back
+    to the same FOON (control characters included: the JSON loader refused them)."""
+    f = foon.Foon.from_text(odd_foon(label, state, ingredient, container, motion))
+    assert f.fu_count == 1
+    doc = f.to_json()
+    validate(json.loads(doc), "foon")
+    back = foon.Foon.from_text(doc)
+    assert back.to_json() == doc
+    assert back.to_text() == f.to_text()
+    assert [o.to_dict() for o in back.objects()] == [o.to_dict() for o in f.objects()]
+
+
+def test_json_still_refuses_what_text_cannot_hold(tmp_path: Path) -> None:
+    unit = '{{"input_nodes": [{{"label": "{}"}}], "motion_node": "m", "output_nodes": []}}'
+    for bad in ("a\\u0000b", "a\\nb", "a\\tb"):
+        p = tmp_path / "bad.json"
+        p.write_text(f"[{unit.format(bad)}]")
+        with pytest.raises(foon.ParseError, match="control character") as e:
+            foon.load(p)
+        # At the label's value (the column where the parser read it).
+        assert e.value.path == str(p) and e.value.line == 1
+        assert e.value.column is not None and 29 <= e.value.column <= 40
+
+
+@pytest.mark.parametrize("ch", ["\ufffe", "\uffff", "\x1b", "\x7f"])
+def test_svg_is_xml_and_graphml_says_what_it_cannot_hold(tmp_path: Path, ch: str) -> None:
+    path = tmp_path / "odd.txt"
+    path.write_text(odd_foon(ch, "raw", "x", "pot", "cut"), encoding="utf-8")
+    f = foon.load(path)
+    dot = f.to_dot()
+    assert "\ufffe" not in dot and "\uffff" not in dot
+    bad_for_xml = ch in "\ufffe\uffff\x1b"
+    p = cli("export", str(path), "--format", "graphml")
+    if bad_for_xml:
+        # An output the writer cannot make: one error line, exit 1, no usage line.
+        with pytest.raises(foon.OutputError, match="cannot hold"):
+            f.write("graphml")
+        assert p.returncode == 1 and p.stdout == b""
+        assert "cannot hold" in one_error_line(p)
+        assert b"usage:" not in p.stderr
+    else:
+        assert p.returncode == 0
+        ET.fromstring(p.stdout)
+    need_program("dot")
+    svg = str(f.write("svg"))
+    ET.fromstring(svg.encode())  # well-formed XML whatever the label holds
+    p = cli("draw", str(path))
+    assert p.returncode == 0, p.stderr.decode()
+    ET.fromstring(p.stdout)

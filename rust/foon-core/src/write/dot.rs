@@ -30,8 +30,8 @@
 //! Text is quoted for both the DOT parser and Graphviz's label escapes: `"` and `\` are
 //! escaped, a newline becomes a line break, `&` is written `&amp;` (Graphviz decodes HTML
 //! entities in labels, so `&lt;` would otherwise show as `<`), and control characters other
-//! than the newline become U+FFFD. The output depends only on the input: same input, same
-//! bytes.
+//! than the newline, and U+FFFE and U+FFFF (which SVG, as XML, cannot hold), become U+FFFD.
+//! The output depends only on the input: same input, same bytes.
 
 use std::fmt::Write as _;
 use std::io;
@@ -70,7 +70,8 @@ fn quote(s: &str) -> String {
             '\\' => out.push_str("\\\\"),
             '\n' => out.push_str("\\n"),
             '&' => out.push_str("&amp;"),
-            c if c.is_control() => out.push('\u{fffd}'),
+            // XML (SVG) cannot hold U+FFFE and U+FFFF either.
+            c if c.is_control() || c == '\u{fffe}' || c == '\u{ffff}' => out.push('\u{fffd}'),
             c => out.push(c),
         }
     }
