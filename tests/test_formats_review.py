@@ -1,8 +1,8 @@
 """Review of the output formats: what a demanding user runs into. Each test is the
 regression test of one fix: numbers the core cannot take, a stdout that is closed, a `dot`
 program (``FOON_DOT``) that exits 0 without a picture, the size message of a tree picture,
-characters FOON text holds that JSON and XML writers must handle, and GraphML's error for
-text XML cannot hold."""
+characters FOON text holds that JSON and XML writers must handle, GraphML's error for text
+XML cannot hold, and ``-o`` onto a device or a pipe."""
 
 from __future__ import annotations
 
@@ -270,3 +270,59 @@ def test_svg_is_xml_and_graphml_says_what_it_cannot_hold(tmp_path: Path, ch: str
     p = cli("draw", str(path))
     assert p.returncode == 0, p.stderr.decode()
     ET.fromstring(p.stdout)
+
+
+# --- -o onto a device or a pipe ------------------------------------------------------------
+
+
+def _fifo_reader(path: Path) -> int:
+    """A reader of the FIFO ``path``, opened without waiting, so that a writer never blocks
+    (and a command that replaced the FIFO instead of writing into it never hangs the test)."""
+    os.mkfifo(path)
+    return os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+
+
+def _drain(fd: int) -> bytes:
+    out = b""
+    while True:
+        try:
+            chunk = os.read(fd, 1 << 16)
+        except BlockingIOError:
+            return out
+        if not chunk:
+            return out
+        out += chunk
+
+
+@pytest.mark.parametrize("through_link", [False, True])
+def test_dash_o_onto_a_pipe_writes_into_it(tmp_path: Path, through_link: bool) -> None:
+    """``-o /dev/stdout`` or ``-o /dev/null`` wrote a temporary file and renamed it over the
+    device, replacing it with a regular file. A FIFO stands in for the device here."""
+    fifo = tmp_path / "pipe"
+    fd = _fifo_reader(fifo)
+    dest = fifo
+    if through_link:
+        dest = tmp_path / "link"
+        dest.symlink_to(fifo)
+    try:
+        p = cli("export", str(EXAMPLE["foon"]), "--format", "text", "-o", str(dest))
+        assert p.returncode == 0, p.stderr.decode()
+        assert stat.S_ISFIFO(os.stat(dest).st_mode) and stat.S_ISFIFO(os.lstat(fifo).st_mode)
+        assert through_link == os.path.islink(dest)
+        assert _drain(fd).decode() == foon.load(EXAMPLE["foon"]).to_text()
+    finally:
+        os.close(fd)
+
+
+def test_out_dir_refuses_a_pipe_in_the_way(tmp_path: Path) -> None:
+    out = tmp_path / "trees"
+    out.mkdir()
+    fd = _fifo_reader(out / "ice.txt")  # the example goal's file name
+    try:
+        p = cli("plan", "--out", str(out), "-q")
+        assert p.returncode == 1
+        assert "not a regular file" in one_error_line(p)
+        assert stat.S_ISFIFO(os.lstat(out / "ice.txt").st_mode)
+        assert sorted(x.name for x in out.iterdir()) == ["ice.txt"]
+    finally:
+        os.close(fd)
