@@ -13,7 +13,7 @@ import warnings
 
 import foon
 from foon import _foon
-from foon._cli_out import OutDir, OutError, file_names
+from foon._cli_out import OutDir, OutError, file_names, is_stream
 from foon.cli import CliError, UsageError, error, one_line
 
 TYPE_CHECKING = False
@@ -538,6 +538,15 @@ def cmd_export(args: argparse.Namespace) -> int:
     folder, name = os.path.split(args.out)
     if not name:
         raise UsageError(f"--out: {args.out!r} names a folder, not a file")
+    if is_stream(args.out):
+        # -o /dev/stdout, /dev/null, a FIFO: written into (the document is complete
+        # already), never replaced by a file.
+        try:
+            with open(args.out, "wb") as fh:
+                fh.write(data)
+        except OSError as e:
+            raise CliError(f"{args.out}: cannot write: {e.strerror or e}") from None
+        return 0
     try:
         out = OutDir(folder or ".", [name], [args.file, args.kitchen, args.utensils, args.motions])
         try:

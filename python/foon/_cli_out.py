@@ -68,6 +68,19 @@ def file_names(labels: Sequence[str], ext: str) -> list[str]:
     return names
 
 
+def is_stream(path: str) -> bool:
+    """Whether ``path`` is (or links to) something other than a file or folder: a device
+    such as ``/dev/stdout`` or ``/dev/null``, a FIFO, a socket. Such a destination is
+    written into; renaming a file over it would remove it."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
+
+
 def _same_file(a: str, b: str) -> bool:
     try:
         return os.path.samefile(a, b)
@@ -123,6 +136,9 @@ class OutDir:
                 )
             if os.path.isdir(dest) and not os.path.islink(dest):
                 raise OutError(f"{dest}: is a directory")
+            if is_stream(dest):
+                # The rename of commit() would replace the device or pipe with a file.
+                raise OutError(f"{dest}: not a regular file (a device, pipe or socket)")
             for i in inputs:
                 if _same_file(dest, i):
                     raise OutError(f"{dest}: refusing to overwrite an input file")

@@ -297,18 +297,30 @@ def _formats(kind: int) -> list[str]:
     return [name for name, f in foon.FORMATS.items() if f[3 + kind]]
 
 
-def _count_arg(text: str) -> int:
+#: The largest --depth and --cost-scale the core takes (32-bit); --max-nodes takes 64 bits.
+_MAX_U32 = 2**32 - 1
+_MAX_U64 = 2**64 - 1
+
+
+def _count_arg(text: str, limit: int = _MAX_U32) -> int:
     import argparse
 
     if not (text.isascii() and text.isdigit()):
         raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
-    return int(text)
+    n = int(text)
+    if n > limit:
+        raise argparse.ArgumentTypeError(f"too large: {text} (at most {limit:,})")
+    return n
+
+
+def _nodes_arg(text: str) -> int:
+    return _count_arg(text, _MAX_U64)
 
 
 def _picture_options(sp: argparse.ArgumentParser) -> None:
     sp.add_argument(
         "--max-nodes",
-        type=_count_arg,
+        type=_nodes_arg,
         metavar="N",
         help=f"largest picture drawn, in nodes (default: {foon.MAX_PICTURE_NODES:,})",
     )
@@ -375,7 +387,25 @@ def _quiet_closed_pipe() -> None:
         pass
 
 
+def _guard_closed_stdout() -> None:
+    """Started with stdout closed (``>&-``, Python then has no ``sys.stdout``): fd 1 is
+    reopened read-only on devnull, so that no file the command opens takes its place, and
+    writing output fails (EBADF) with a one-line error as for any program; a command that
+    writes only files (``--out``, ``-o``) runs as usual."""
+    if sys.stdout is not None:
+        return
+    try:
+        fd = os.open(os.devnull, os.O_RDONLY)
+        if fd != 1:
+            os.dup2(fd, 1)
+            os.close(fd)
+        sys.stdout = open(1, "w", encoding="utf-8", closefd=False)  # noqa: SIM115
+    except OSError:
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    _guard_closed_stdout()
     try:
         return _run(list(sys.argv[1:] if argv is None else argv))
     except BrokenPipeError:

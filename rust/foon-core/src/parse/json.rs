@@ -6,8 +6,8 @@
 //!
 //! Strings follow the text rules: labels, states and motions are lower-cased and
 //! right-stripped; ingredients and containers are kept as written. What FOON text cannot
-//! hold is refused (a control character such as a TAB or a line break, a `,` in an
-//! ingredient), so every JSON FOON can be written as text. Errors name the file, line and
+//! hold is refused (NUL, a line feed, a TAB outside motion metadata, a `,` in an
+//! ingredient), so every JSON FOON can be written as text; everything text holds loads. Errors name the file, line and
 //! column (of the offending value; for a missing field, of the object that lacks it).
 
 use std::path::Path;
@@ -68,10 +68,19 @@ fn flag_not_given() -> u8 {
 type De<T, E> = std::result::Result<T, E>;
 
 /// Why text cannot be a field of FOON text, if it cannot (`tab_ok` for motion metadata,
-/// whose fields are TAB-separated).
+/// whose fields are TAB-separated and which ends its line). FOON text holds every character
+/// but NUL, the line feed and (between fields) the TAB, and drops a carriage return that
+/// ends a line: any other control character loads from text, so it loads from JSON too
+/// (what `foon` writes as JSON always loads back).
 fn text_fault(s: &str, what: &str, tab_ok: bool) -> Option<String> {
+    let cr_at_end = tab_ok && s.ends_with('\r');
     s.chars()
-        .find(|&c| c.is_control() && !(tab_ok && c == '\t'))
+        .find(|&c| match c {
+            '\0' | '\n' => true,
+            '\t' => !tab_ok,
+            '\r' => cr_at_end,
+            _ => false,
+        })
         .map(|c| {
             format!(
                 "{what} '{}' holds the control character {c:?}",

@@ -30,8 +30,8 @@
 //! Text is quoted for both the DOT parser and Graphviz's label escapes: `"` and `\` are
 //! escaped, a newline becomes a line break, `&` is written `&amp;` (Graphviz decodes HTML
 //! entities in labels, so `&lt;` would otherwise show as `<`), and control characters other
-//! than the newline become U+FFFD. The output depends only on the input: same input, same
-//! bytes.
+//! than the newline, and U+FFFE and U+FFFF (which SVG, as XML, cannot hold), become U+FFFD.
+//! The output depends only on the input: same input, same bytes.
 
 use std::fmt::Write as _;
 use std::io;
@@ -70,7 +70,8 @@ fn quote(s: &str) -> String {
             '\\' => out.push_str("\\\\"),
             '\n' => out.push_str("\\n"),
             '&' => out.push_str("&amp;"),
-            c if c.is_control() => out.push('\u{fffd}'),
+            // XML (SVG) cannot hold U+FFFE and U+FFFF either.
+            c if c.is_control() || c == '\u{fffe}' || c == '\u{ffff}' => out.push('\u{fffd}'),
             c => out.push(c),
         }
     }
@@ -285,12 +286,24 @@ fn document(title: &str, seen: Seen, body: &str) -> String {
     out
 }
 
-/// Refuses a rendered picture of more than `opts.max_nodes` nodes (DOT text is not refused).
-fn check_size(format: Format, nodes: usize, opts: &Options, what: &str) -> Result<()> {
+/// How a FOON picture is narrowed (`foon draw`, `foon export`).
+const NARROW_FOON: &str = "--goal, --depth";
+/// How a picture of task trees is narrowed (`foon plan` takes no `--depth`).
+const NARROW_TREES: &str = "fewer goals, or one picture per goal with --out DIR";
+
+/// Refuses a rendered picture of more than `opts.max_nodes` nodes (DOT text is not refused);
+/// `narrow` says how to make it smaller.
+fn check_size(
+    format: Format,
+    nodes: usize,
+    opts: &Options,
+    what: &str,
+    narrow: &str,
+) -> Result<()> {
     if format != Format::Dot && nodes > opts.max_nodes {
         return Err(Error::Output(format!(
             "{what} has {nodes} nodes (objects and motions), more than the {} a {} picture \
-             holds: narrow it (--goal, --depth) or raise the limit (--max-nodes); \
+             holds: narrow it ({narrow}) or raise the limit (--max-nodes); \
              --format dot writes it at any size",
             opts.max_nodes,
             format.as_str()
@@ -349,7 +362,13 @@ impl TreeFormat for DotTrees {
         let units = doc.units();
         self.nodes += node_count(doc.foon, units, Some(doc.goal()));
         // Refuse as soon as the picture is too big, before drawing more of it.
-        check_size(self.format, self.nodes, &self.opts, "the picture")?;
+        check_size(
+            self.format,
+            self.nodes,
+            &self.opts,
+            "the picture",
+            NARROW_TREES,
+        )?;
         let prefix = if self.many {
             format!("t{i}_")
         } else {
@@ -372,7 +391,13 @@ impl TreeFormat for DotTrees {
     }
 
     fn end(&mut self, out: &mut dyn io::Write) -> Result<()> {
-        check_size(self.format, self.nodes, &self.opts, "the picture")?;
+        check_size(
+            self.format,
+            self.nodes,
+            &self.opts,
+            "the picture",
+            NARROW_TREES,
+        )?;
         let text = if self.many {
             let mut b = String::new();
             for (i, (title, part)) in self.parts.iter().enumerate() {
@@ -458,6 +483,7 @@ pub(super) fn write_foon(
         node_count(doc.foon, &units, doc.focus),
         opts,
         "the FOON",
+        NARROW_FOON,
     )?;
     let title = opts.title.clone().unwrap_or_else(|| {
         let name = doc
@@ -645,7 +671,12 @@ mod tests {
         let e = tree_dot(&f, &prep, done, Format::Svg, &small).unwrap_err();
         assert!(matches!(e, Error::Output(_)));
         let msg = e.to_string();
-        assert!(msg.contains("6 nodes") && msg.contains("--goal") && msg.contains("--depth"));
+        // `foon plan` has no --depth: a tree picture is narrowed by drawing fewer trees.
+        assert!(
+            msg.contains("6 nodes") && msg.contains("--out DIR"),
+            "{msg}"
+        );
+        assert!(!msg.contains("--depth"), "{msg}");
         assert!(msg.contains("--max-nodes"), "{msg}");
     }
 

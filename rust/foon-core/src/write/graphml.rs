@@ -19,8 +19,8 @@
 //!
 //! Several trees in one document are one `<graph>` each (`GraphML` allows any number), in
 //! the order given. Text is escaped for XML; a character that XML 1.0 cannot hold (a
-//! control character other than tab, newline and carriage return) is an error, and nothing
-//! is written.
+//! control character other than tab, newline and carriage return, U+FFFE, U+FFFF) is an
+//! output error ([`Error::Output`]), and nothing is written.
 
 use std::fmt::Write as _;
 use std::io;
@@ -91,7 +91,7 @@ fn escape_into(out: &mut String, s: &str, what: &dyn Fn() -> String) -> Result<(
             '\r' => out.push_str("&#13;"),
             '\t' | '\n' => out.push(c),
             c if c < ' ' || c == '\u{fffe}' || c == '\u{ffff}' => {
-                return Err(Error::Invalid(format!(
+                return Err(Error::Output(format!(
                     "{} has the character U+{:04X}, which GraphML (XML 1.0) cannot hold",
                     what(),
                     u32::from(c)

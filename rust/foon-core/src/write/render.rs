@@ -76,7 +76,35 @@ fn run(program: &str, dot_text: &str, kind: &str) -> Result<Vec<u8>> {
     }
     // `dot` succeeded without reading all its input: what it drew is not the picture.
     fed.map_err(|e| Error::Output(format!("writing to `{program}`: {e}")))?;
+    check_output(program, kind, &output.stdout)?;
     Ok(output.stdout)
+}
+
+/// Refuses what a program that exits 0 wrote when it is not a document of `kind`: nothing
+/// at all, or for `svg`, `png` and `pdf` something that does not begin (and for SVG end)
+/// as one does, so that a broken `FOON_DOT` never passes for a picture.
+fn check_output(program: &str, kind: &str, out: &[u8]) -> Result<()> {
+    let ok = match kind {
+        _ if out.is_empty() => false,
+        "svg" => {
+            let text = String::from_utf8_lossy(out);
+            text.trim_start().starts_with('<') && text.trim_end().ends_with("</svg>")
+        }
+        "png" => out.starts_with(b"\x89PNG\r\n\x1a\n"),
+        "pdf" => out.starts_with(b"%PDF-"),
+        _ => true,
+    };
+    if ok {
+        return Ok(());
+    }
+    let what = if out.is_empty() {
+        "nothing".to_owned()
+    } else {
+        format!("{} bytes that are not {kind}", out.len())
+    };
+    Err(Error::Output(format!(
+        "Graphviz's `{program}` wrote {what} for -T{kind}"
+    )))
 }
 
 #[cfg(test)]
@@ -130,8 +158,35 @@ mod tests {
             "head -c 4000000 /dev/zero >&2; t=$(mktemp); cat > \"$t\"; cat \"$t\" \"$t\"; rm -f \"$t\"",
         );
         let input = "x".repeat(3_000_000);
-        let out = run(p.to_str().unwrap(), &input, "svg").unwrap();
+        let out = run(p.to_str().unwrap(), &input, "canon").unwrap();
         assert_eq!(out.len(), 6_000_000);
+    }
+
+    #[test]
+    fn a_program_that_succeeds_with_no_picture_is_an_error() {
+        for (name, body, kind) in [
+            ("empty", "cat >/dev/null", "svg"),
+            ("empty-canon", "cat >/dev/null", "canon"),
+            ("garbage-svg", "cat >/dev/null; echo garbage", "svg"),
+            (
+                "cut-svg",
+                "cat >/dev/null; echo '<?xml version=\"1.0\"?><svg>'",
+                "svg",
+            ),
+            ("garbage-png", "cat >/dev/null; echo garbage", "png"),
+            ("garbage-pdf", "cat >/dev/null; echo '<svg></svg>'", "pdf"),
+        ] {
+            let p = script(name, body);
+            let e = run(p.to_str().unwrap(), "digraph {}", kind).unwrap_err();
+            assert!(matches!(e, Error::Output(_)), "{name}");
+            let msg = e.to_string();
+            assert!(msg.contains(&format!("for -T{kind}")), "{name}: {msg}");
+        }
+        let p = script(
+            "ok-svg",
+            "cat >/dev/null; printf '<?xml?>\\n<svg>\\n</svg>\\n'",
+        );
+        assert!(run(p.to_str().unwrap(), "digraph {}", "svg").is_ok());
     }
 
     #[test]
