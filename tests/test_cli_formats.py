@@ -222,3 +222,8 @@ def test_compare_writes_every_comparison_format() -> None:
     assert csv_alias[0] == outs["csv"].splitlines()[0]
     assert len(csv_alias) == len(outs["csv"].splitlines())
     assert outs["text"].decode().splitlines()[0].split()[:2] == ["goal", "method"]
+
+
+def test_depth_without_a_goal_is_refused_in_python_too() -> None:
+    with pytest.raises(ValueError, match="depth needs a goal"):
+        foon.example().foon.write("dot", depth=1)

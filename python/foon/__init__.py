@@ -937,6 +937,8 @@ class Foon:
         marks its items in pictures and is PDDL's initial state; ``motions`` gives the rates
         written (GraphML, PDDL action costs). ``str`` for text formats, ``bytes`` for png and
         pdf."""
+        if depth is not None and goal is None:
+            raise ValueError("depth needs a goal (the units within depth steps of it)")
         focus = None if goal is None else self.goal_id(goal)
         planner = None
         if kitchen is not None or utensils is not None or motions is not None:
