@@ -145,11 +145,17 @@ def broken_dot(tmp_path: Path, name: str) -> str:
     return str(path)
 
 
-@pytest.mark.parametrize("name", sorted(BROKEN_DOTS))
-@pytest.mark.parametrize("fmt", ["svg", "png", "pdf", "html"])
+@pytest.mark.parametrize(
+    ("name", "fmt"),
+    [
+        (name, fmt)
+        for name in sorted(BROKEN_DOTS)
+        for fmt in ("svg", "png", "pdf", "html")
+        # An SVG is the right kind of output for svg and html.
+        if not (name == "wrong-kind" and fmt in ("svg", "html"))
+    ],
+)
 def test_a_dot_that_writes_no_picture_is_an_error(tmp_path: Path, name: str, fmt: str) -> None:
-    if name == "wrong-kind" and fmt in ("svg", "html"):
-        pytest.skip("an SVG is the right kind here")
     env = {"FOON_DOT": broken_dot(tmp_path, name)}
     p = cli("plan", "--format", fmt, "-q", env=env)
     assert p.returncode == 1
