@@ -9,11 +9,12 @@ mod csr;
 mod interner;
 
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 use std::hash::Hasher;
 
 use hashbrown::HashTable;
-use rustc_hash::FxHasher;
+use rustc_hash::{FxHashSet, FxHasher};
 
 use crate::error::{Error, Result, Warning};
 use crate::model::{ObjectSpec, canonical_into};
@@ -72,6 +73,8 @@ pub struct Foon {
     pub(crate) notes: Vec<Warning>,
     pub(crate) duplicates: Vec<DuplicateFu>,
     pub(crate) source: Option<PathBuf>,
+    /// Labels that some object has with the state `empty` (computed on first use).
+    pub(crate) empty_labels: OnceLock<FxHashSet<u32>>,
 }
 
 /// Counts shown by `foon stats`.
@@ -306,6 +309,20 @@ impl Foon {
         let s: Option<Vec<u32>> = states.iter().map(|s| self.strings.get(s)).collect();
         let i: Option<Vec<u32>> = ingredients.iter().map(|s| self.strings.get(s)).collect();
         self.find_object_ids(l, &s?, &i?, c)
+    }
+
+    /// The labels (string ids) that some object has with the state `empty`: the FOON's
+    /// vessels, which the step wording names as `the bowl of ...`. Computed once per FOON.
+    pub(crate) fn empty_labels(&self) -> &FxHashSet<u32> {
+        self.empty_labels.get_or_init(|| {
+            let Some(empty) = self.strings.get("empty") else {
+                return FxHashSet::default();
+            };
+            (0..self.object_count() as u32)
+                .filter(|&o| self.states(o).contains(&empty))
+                .map(|o| self.label(o))
+                .collect()
+        })
     }
 
     /// Objects whose label is `label`, in id order.

@@ -265,11 +265,7 @@ fn failed_graph(failed: &Failed, id: &str) -> Result<String> {
     let mut out = String::new();
     let _ = writeln!(out, "  <graph id=\"{id}\" edgedefault=\"directed\">");
     data(&mut out, IN, "graph.kind", "tree");
-    let goal = if failed.label_only {
-        failed.goal.label.clone()
-    } else {
-        failed.goal.describe()
-    };
+    let goal = failed.goal_text();
     data_text(&mut out, IN, "graph.title", &goal, &|| {
         "the goal".to_owned()
     })?;

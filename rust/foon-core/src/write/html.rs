@@ -256,11 +256,7 @@ impl TreeFormat for HtmlTrees {
     }
 
     fn failed(&mut self, f: &Failed, _out: &mut dyn io::Write) -> Result<()> {
-        let goal = if f.label_only {
-            f.goal.label.clone()
-        } else {
-            f.goal.describe()
-        };
+        let goal = f.goal_text();
         let _ = writeln!(
             self.body,
             "<section class=\"failed\" id=\"tree-{}\" data-goal=\"{}\">\n<h2>{}</h2>\n\

@@ -219,6 +219,17 @@ pub struct Failed {
     pub error: String,
 }
 
+impl Failed {
+    /// The goal as given, on one line: its label alone when only the label was given.
+    pub fn goal_text(&self) -> String {
+        if self.label_only {
+            self.goal.label.clone()
+        } else {
+            self.goal.describe()
+        }
+    }
+}
+
 /// One entry of a stream of task trees.
 pub enum Item<'a> {
     Tree(TreeDoc<'a>),

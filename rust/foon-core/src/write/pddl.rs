@@ -458,11 +458,7 @@ impl TreeFormat for PddlTree {
     }
 
     fn failed(&mut self, f: &Failed, _out: &mut dyn io::Write) -> Result<()> {
-        let goal = if f.label_only {
-            f.goal.label.clone()
-        } else {
-            f.goal.describe()
-        };
+        let goal = f.goal_text();
         Err(Error::Invalid(format!(
             "no PDDL problem for {goal}: {}",
             f.error

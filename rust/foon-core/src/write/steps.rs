@@ -221,23 +221,18 @@ fn join(items: &[String]) -> String {
     }
 }
 
-/// What the wording of one FOON needs: its vessel labels.
+/// What the wording of one FOON needs: its vessel labels (computed once per FOON).
 struct Words<'a> {
     foon: &'a Foon,
-    vessels: FxHashSet<u32>,
+    vessels: &'a FxHashSet<u32>,
 }
 
 impl<'a> Words<'a> {
     fn new(foon: &'a Foon) -> Self {
-        let mut vessels = FxHashSet::default();
-        if let Some(empty) = foon.strings().get("empty") {
-            for o in 0..foon.object_count() as u32 {
-                if foon.states(o).contains(&empty) {
-                    vessels.insert(foon.label(o));
-                }
-            }
+        Self {
+            foon,
+            vessels: foon.empty_labels(),
         }
-        Self { foon, vessels }
     }
 
     /// The object's states that read as adjectives, in its written order.
@@ -604,12 +599,7 @@ impl TreeFormat for StepTrees {
 
     fn failed(&mut self, f: &Failed, out: &mut dyn io::Write) -> Result<()> {
         if self.many {
-            let goal = if f.label_only {
-                f.goal.label.clone()
-            } else {
-                f.goal.describe()
-            };
-            return put(out, format!("# goal: {goal}\n").as_bytes());
+            return put(out, format!("# goal: {}\n", f.goal_text()).as_bytes());
         }
         Ok(())
     }

@@ -130,12 +130,7 @@ impl super::TreeFormat for TextTrees {
 
     fn failed(&mut self, f: &super::Failed, out: &mut dyn std::io::Write) -> crate::Result<()> {
         if self.many {
-            let goal = if f.label_only {
-                f.goal.label.clone()
-            } else {
-                f.goal.describe()
-            };
-            return super::put(out, format!("# goal: {goal}\n").as_bytes());
+            return super::put(out, format!("# goal: {}\n", f.goal_text()).as_bytes());
         }
         Ok(())
     }
