@@ -42,18 +42,36 @@ impl Prepared {
         rates: Option<&MotionRates>,
         default_rate: Option<f64>,
     ) -> Result<Self> {
+        let mut ids: Vec<u32> = kitchen.iter().filter_map(|item| item.find_in(foon)).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        Self::with_objects(foon, &ids, utensils, rates, default_rate)
+    }
+
+    /// As [`Prepared::new`], with the kitchen already matched to object ids of `foon` (any
+    /// order, repeats allowed). An id that is not an object of `foon` is an error.
+    pub fn with_objects(
+        foon: &Foon,
+        kitchen: &[u32],
+        utensils: &[String],
+        rates: Option<&MotionRates>,
+        default_rate: Option<f64>,
+    ) -> Result<Self> {
         if let Some(r) = default_rate {
             check_rate(None, r)?;
         }
         let n = foon.object_count();
         let mut in_kitchen = vec![false; n];
-        let mut kitchen_objects = Vec::new();
-        for item in kitchen {
-            if let Some(o) = item.find_in(foon) {
-                if !in_kitchen[o as usize] {
-                    in_kitchen[o as usize] = true;
-                    kitchen_objects.push(o);
-                }
+        let mut kitchen_objects = Vec::with_capacity(kitchen.len());
+        for &o in kitchen {
+            let Some(flag) = in_kitchen.get_mut(o as usize) else {
+                return Err(Error::Invalid(format!(
+                    "kitchen object id {o} is not an object of this FOON ({n} objects)"
+                )));
+            };
+            if !*flag {
+                *flag = true;
+                kitchen_objects.push(o);
             }
         }
         kitchen_objects.sort_unstable();
