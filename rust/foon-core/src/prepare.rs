@@ -42,7 +42,10 @@ impl Prepared {
         rates: Option<&MotionRates>,
         default_rate: Option<f64>,
     ) -> Result<Self> {
-        let mut ids: Vec<u32> = kitchen.iter().filter_map(|item| item.find_in(foon)).collect();
+        let mut ids: Vec<u32> = kitchen
+            .iter()
+            .filter_map(|item| item.find_in(foon))
+            .collect();
         ids.sort_unstable();
         ids.dedup();
         Self::with_objects(foon, &ids, utensils, rates, default_rate)

@@ -226,6 +226,7 @@ pub(crate) fn decode(data: &[u8]) -> Res<Foon> {
     }
     let source = r.opt_str()?.map(PathBuf::from);
     let mut b = Builder::new();
+    b.begin_source(source.as_deref());
     let n_strings = r.len()?;
     for id in 0..n_strings as u32 {
         let s = r.str()?;
@@ -318,5 +319,5 @@ pub(crate) fn decode(data: &[u8]) -> Res<Foon> {
     if !r.data.is_empty() {
         return Err("data after the end".into());
     }
-    Ok(b.finish(source))
+    Ok(b.finish())
 }

@@ -1,7 +1,7 @@
 //! Building a [`Foon`]: objects interned by identity and their written variants, FUs with
 //! duplicates dropped, then the producer and consumer lists.
 
-use std::path::PathBuf;
+use std::path::Path;
 
 use hashbrown::HashTable;
 
@@ -38,6 +38,10 @@ pub struct Builder {
     outs: Vec<u32>,
     in_vars: Vec<u32>,
     out_vars: Vec<u32>,
+    /// The source FUs are being read from (set by [`Builder::begin_source`]).
+    current: u32,
+    /// Further origins of kept FUs: (FU, source, line).
+    also: Vec<(u32, u32, u32)>,
 }
 
 impl Builder {
@@ -50,10 +54,28 @@ impl Builder {
             &mut b.foon.var_ingredients,
             &mut b.foon.fu_inputs,
             &mut b.foon.fu_outputs,
+            &mut b.foon.fu_also,
         ] {
             *csr = Csr::new();
         }
         b
+    }
+
+    /// Starts a new source (a file, or text given in memory when `path` is `None`): the FUs
+    /// added from now on come from it. Returns its id.
+    pub fn begin_source(&mut self, path: Option<&Path>) -> u32 {
+        let id = self.foon.sources.len() as u32;
+        self.foon.sources.push(
+            path.map(|p| p.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+        );
+        self.current = id;
+        id
+    }
+
+    /// Records that FU `fu` was also found in `source` at `line` (merging).
+    pub fn add_origin(&mut self, fu: u32, source: u32, line: u32) {
+        self.also.push((fu, source, line));
     }
 
     pub fn intern(&mut self, s: &str) -> u32 {
@@ -168,7 +190,13 @@ impl Builder {
             *scratch == key
         });
         let result = if let Some(&first) = found {
-            self.foon.duplicates.push(DuplicateFu { line, of: first });
+            let source = self.current;
+            self.foon.report.duplicates.push(DuplicateFu {
+                line,
+                of: first,
+                source,
+            });
+            self.also.push((first, source, line));
             Err(first)
         } else {
             let f = &mut self.foon;
@@ -176,6 +204,7 @@ impl Builder {
             f.fu_motion.push(motion);
             f.fu_motion_meta.push(motion_meta);
             f.fu_line.push(line);
+            f.fu_source.push(self.current);
             f.fu_inputs.push_row(&in_ids);
             f.fu_outputs.push_row(&out_ids);
             f.fu_input_variant.extend_from_slice(&in_vars);
@@ -211,17 +240,33 @@ impl Builder {
     }
 
     pub fn warn(&mut self, w: Warning) {
-        self.foon.warnings.push(w);
+        self.foon.report.warnings.push(w);
     }
 
     pub fn note(&mut self, w: Warning) {
-        self.foon.notes.push(w);
+        self.foon.report.notes.push(w);
     }
 
-    /// Finishes the index: builds producers (course rule) and consumers.
-    pub fn finish(self, source: Option<PathBuf>) -> Foon {
+    /// Finishes the index: builds producers (course rule), consumers and the provenance rows.
+    pub fn finish(self) -> Foon {
         let mut f = self.foon;
-        f.source = source;
+        if f.sources.is_empty() {
+            f.sources.push(String::new());
+        }
+        let mut also = Csr::new();
+        let mut pairs = Vec::new();
+        let mut rest = self.also;
+        rest.sort_by_key(|&(fu, _, _)| fu); // stable: each row keeps the reading order
+        let mut it = rest.into_iter().peekable();
+        for fu in 0..f.fu_motion.len() as u32 {
+            pairs.clear();
+            while let Some(&(_, s, l)) = it.peek().filter(|&&(g, _, _)| g == fu) {
+                pairs.extend([s, l]);
+                it.next();
+            }
+            also.push_row(&pairs);
+        }
+        f.fu_also = also;
         let n_obj = f.obj_label.len();
         let n_fu = f.fu_motion.len() as u32;
         let outs = &f.fu_outputs;
@@ -245,5 +290,55 @@ impl Builder {
         let cons_pairs = (0..n_fu).flat_map(|fu| ins.row(fu).iter().map(move |&o| (o, fu)));
         f.consumers = Csr::from_pairs(n_obj, cons_pairs);
         f
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::Builder;
+    use crate::parse::{ParseOptions, parse_into};
+
+    const A: &str = "O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n";
+    const B: &str = "O\tbread\nS\twhole\nM\tslice\nO\tbread\nS\tsliced\n//\n";
+
+    /// Several sources build one index; an FU found again keeps its first copy and records
+    /// every (source, line) it was found at; support counts distinct sources.
+    #[test]
+    fn sources_and_origins() {
+        let mut b = Builder::new();
+        let none = &|| false;
+        let opts = ParseOptions::default();
+        let aa = format!("{A}{A}");
+        parse_into(
+            &mut b,
+            aa.as_bytes(),
+            Some(Path::new("a.txt")),
+            opts,
+            None,
+            none,
+        )
+        .unwrap();
+        let ba = format!("{B}{A}");
+        parse_into(
+            &mut b,
+            ba.as_bytes(),
+            Some(Path::new("b.txt")),
+            opts,
+            None,
+            none,
+        )
+        .unwrap();
+        let f = b.finish();
+        assert_eq!(f.fu_count(), 2);
+        assert_eq!(f.source_count(), 2);
+        assert_eq!((f.source_name(0), f.source_name(1)), ("a.txt", "b.txt"));
+        assert_eq!(f.origins(0).collect::<Vec<_>>(), [(0, 1), (0, 7), (1, 7)]);
+        assert_eq!(f.origins(1).collect::<Vec<_>>(), [(1, 1)]);
+        assert_eq!((f.support(0), f.support(1)), (2, 1));
+        assert_eq!(f.fu_source(1), 1);
+        assert_eq!(f.duplicates().len(), 2);
+        assert_eq!(f.source(), Some(Path::new("a.txt")));
     }
 }

@@ -8,7 +8,6 @@ mod build;
 mod csr;
 mod interner;
 
-use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use std::hash::Hasher;
@@ -33,6 +32,19 @@ pub struct DuplicateFu {
     pub line: u32,
     /// Index of the kept copy.
     pub of: u32,
+    /// Source (see [`Foon::source_name`]) of the dropped copy.
+    pub source: u32,
+}
+
+/// What loading found besides the index: warnings, lint notes and the duplicates dropped.
+/// It is not part of the index (an index file does not carry it).
+#[derive(Debug, Clone, Default)]
+pub struct Report {
+    pub warnings: Vec<Warning>,
+    /// Lint notes found while parsing (not warnings: strict mode ignores them).
+    pub notes: Vec<Warning>,
+    /// Dropped copies, in the order they were read.
+    pub duplicates: Vec<DuplicateFu>,
 }
 
 /// A parsed FOON: immutable once built, `Send + Sync`, shared behind `Arc`.
@@ -67,12 +79,14 @@ pub struct Foon {
     pub(crate) identity: HashTable<u32>,
     /// FU indices, hashed by FU identity (see [`fu_key_into`]).
     pub(crate) fu_identity: HashTable<u32>,
-    // Load report.
-    pub(crate) warnings: Vec<Warning>,
-    /// Lint notes found while parsing (not warnings: strict mode ignores them).
-    pub(crate) notes: Vec<Warning>,
-    pub(crate) duplicates: Vec<DuplicateFu>,
-    pub(crate) source: Option<PathBuf>,
+    // Provenance: the sources read (paths, or "" for text given in memory), the source of
+    // each FU's kept copy (its line is `fu_line`), and every other (source, line) where the
+    // same FU was found, as pairs in one row per FU.
+    pub(crate) sources: Vec<String>,
+    pub(crate) fu_source: Vec<u32>,
+    pub(crate) fu_also: Csr,
+    /// The load report (not part of the index).
+    pub(crate) report: Report,
     /// Labels that some object has with the state `empty` (computed on first use).
     pub(crate) empty_labels: OnceLock<FxHashSet<u32>>,
 }
@@ -109,21 +123,67 @@ impl Foon {
         self.strings.text(id)
     }
 
+    /// The file the FOON was read from: its first source, when that was a file.
     pub fn source(&self) -> Option<&std::path::Path> {
-        self.source.as_deref()
+        self.sources
+            .first()
+            .filter(|s| !s.is_empty())
+            .map(std::path::Path::new)
+    }
+
+    /// Number of sources the index was built from.
+    pub fn source_count(&self) -> usize {
+        self.sources.len()
+    }
+
+    /// The path of source `id` as given when it was read (`""` for text given in memory).
+    pub fn source_name(&self, id: u32) -> &str {
+        self.sources.get(id as usize).map_or("", String::as_str)
+    }
+
+    /// Source of FU `fu`'s kept copy (its line is [`Foon::fu_line`]).
+    pub fn fu_source(&self, fu: u32) -> u32 {
+        self.fu_source.get(fu as usize).copied().unwrap_or(NONE)
+    }
+
+    /// Every (source, line) where FU `fu` was found: its kept copy first, then the dropped
+    /// copies in the order they were read.
+    pub fn origins(&self, fu: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
+        let also = self.fu_also.row(fu);
+        std::iter::once((self.fu_source(fu), self.fu_line(fu)))
+            .chain(also.chunks_exact(2).map(|p| (p[0], p[1])))
+    }
+
+    /// Support of FU `fu`: the number of distinct sources that contain it.
+    pub fn support(&self, fu: u32) -> usize {
+        let own = self.fu_source(fu);
+        let also = self.fu_also.row(fu);
+        let mut others: Vec<u32> = also
+            .chunks_exact(2)
+            .map(|p| p[0])
+            .filter(|&s| s != own)
+            .collect();
+        others.sort_unstable();
+        others.dedup();
+        1 + others.len()
+    }
+
+    /// The load report: warnings, notes and dropped duplicates.
+    pub fn report(&self) -> &Report {
+        &self.report
     }
 
     pub fn warnings(&self) -> &[Warning] {
-        &self.warnings
+        &self.report.warnings
     }
 
     /// Lint notes found while parsing (spaced or repeated ingredients, empty containers).
     pub fn notes(&self) -> &[Warning] {
-        &self.notes
+        &self.report.notes
     }
 
     pub fn duplicates(&self) -> &[DuplicateFu] {
-        &self.duplicates
+        &self.report.duplicates
     }
 
     #[inline]
@@ -423,8 +483,8 @@ impl Foon {
             strings: self.strings.len(),
             input_edges: self.fu_inputs.data().len(),
             output_edges: self.fu_outputs.data().len(),
-            duplicates_dropped: self.duplicates.len(),
-            warnings: self.warnings.len(),
+            duplicates_dropped: self.report.duplicates.len(),
+            warnings: self.report.warnings.len(),
             index_bytes,
         }
     }

@@ -9,7 +9,7 @@ use super::lines::{
     second_container_fault, second_list_fault,
 };
 use crate::error::{Error, InputKind, Location, Result, Warning, WarningKind};
-use crate::index::{Builder, Foon, NONE, RawObject};
+use crate::index::{Builder, NONE, RawObject};
 
 /// What the second field of a line of this kind is, for messages.
 fn field_name(kind: LineKind) -> &'static str {
@@ -74,17 +74,17 @@ impl Block {
 /// How many lines are read between two calls of a cancel closure.
 pub(super) const CANCEL_EVERY_LINES: u64 = 4096;
 
-/// Parses FOON text into a [`Foon`]: errors are collected in `errors` when it is given (the
+/// Parses FOON text into `b` (one source): errors are collected in `errors` when it is given (the
 /// unit of a bad line is dropped), else the first one is returned; `cancel` is called every
 /// [`CANCEL_EVERY_LINES`] lines.
 pub(super) fn parse_impl(
+    b: &mut Builder,
     data: &[u8],
     path: Option<&Path>,
     opts: ParseOptions,
     mut errors: Option<&mut Vec<Error>>,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Foon> {
-    let mut b = Builder::new();
+) -> Result<()> {
     let mut block = Block::default();
     let mut fields: Vec<(usize, &str)> = Vec::new();
     let err = |line: u64, col: u32, reason: String| {
@@ -143,7 +143,7 @@ pub(super) fn parse_impl(
                 LineKind::Blank | LineKind::Comment => return Ok(()),
                 LineKind::End => {
                     ended.set(true);
-                    finish(&mut b, &mut block, Some(line.number))?;
+                    finish(b, &mut block, Some(line.number))?;
                     return Ok(());
                 }
                 _ => {}
@@ -218,7 +218,7 @@ pub(super) fn parse_impl(
                                     let fault =
                                         second_list_fault(b.text(o.label), &old.join(","), inner);
                                     report(
-                                        &mut b,
+                                        b,
                                         opts.strict,
                                         at(f2_off),
                                         WarningKind::TwoIngredientLists,
@@ -231,7 +231,7 @@ pub(super) fn parse_impl(
                                     if ing.is_empty() {
                                         let fault = empty_ingredient_fault(inner);
                                         report(
-                                            &mut b,
+                                            b,
                                             opts.strict,
                                             at(offset),
                                             WarningKind::EmptyIngredient,
@@ -272,7 +272,7 @@ pub(super) fn parse_impl(
                                         inner,
                                     );
                                     report(
-                                        &mut b,
+                                        b,
                                         opts.strict,
                                         at(f2_off),
                                         WarningKind::TwoContainers,
@@ -306,7 +306,7 @@ pub(super) fn parse_impl(
                                 block.start_line
                             );
                             let at = Location::new(path, line.number, 1);
-                            report(&mut b, opts.strict, at, WarningKind::TwoMotions, &fault)?;
+                            report(b, opts.strict, at, WarningKind::TwoMotions, &fault)?;
                         }
                         return Ok(());
                     }
@@ -337,8 +337,8 @@ pub(super) fn parse_impl(
             }
         }
     }
-    finish(&mut b, &mut block, None)?;
-    Ok(b.finish(path.map(Path::to_path_buf)))
+    finish(b, &mut block, None)?;
+    Ok(())
 }
 
 /// Reports a fault of `kind` at `at`: in strict mode an error, otherwise a warning (a load

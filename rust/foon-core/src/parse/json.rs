@@ -19,7 +19,7 @@ use super::ParseOptions;
 use super::foon::report;
 use super::lines::{empty_ingredient_fault, normalise, strip_bom};
 use crate::error::{Error, InputKind, Location, Result, Warning, WarningKind};
-use crate::index::{Builder, Foon, NONE, RawObject};
+use crate::index::{Builder, NONE, RawObject};
 
 /// Whether an input is JSON: its first non-blank byte (after a byte-order mark) is `[` or
 /// `{`. FOON text never starts so.
@@ -320,16 +320,17 @@ fn node_start(text: &str, from: usize, k: usize) -> usize {
     found
 }
 
-/// Parses a JSON FOON (see the module documentation) into a [`Foon`]: errors are collected
+/// Parses a JSON FOON (see the module documentation) into `b` (one source): errors are collected
 /// in `errors` when it is given (a unit with a bad value is dropped and reading goes on; a
 /// syntax error ends the reading), else the first one is returned.
 pub(super) fn parse_impl(
+    b: &mut Builder,
     data: &[u8],
     path: Option<&Path>,
     opts: ParseOptions,
     mut errors: Option<&mut Vec<Error>>,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Foon> {
+) -> Result<()> {
     let data = strip_bom(data);
     let text = match std::str::from_utf8(data) {
         Ok(t) => t,
@@ -350,8 +351,7 @@ pub(super) fn parse_impl(
         line: 1,
         line_at: 0,
     };
-    let mut b = Builder::new();
-    match read_units(&mut t, &mut b, opts, errors.as_deref_mut(), cancel) {
+    match read_units(&mut t, b, opts, errors.as_deref_mut(), cancel) {
         Ok(()) => {}
         Err(Error::Cancelled) => return Err(Error::Cancelled),
         Err(e) => match errors {
@@ -359,7 +359,7 @@ pub(super) fn parse_impl(
             None => return Err(e),
         },
     }
-    Ok(b.finish(path.map(Path::to_path_buf)))
+    Ok(())
 }
 
 fn read_units(

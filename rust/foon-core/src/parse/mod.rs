@@ -83,10 +83,29 @@ fn parse_any(
     errors: Option<&mut Vec<Error>>,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Foon> {
+    let mut b = Builder::new();
+    parse_into(&mut b, data, path, opts, errors, cancel)?;
+    Ok(b.finish())
+}
+
+/// Parses one source (FOON text, or the lab's JSON when its first non-blank byte is `[` or
+/// `{`) into `b`, which may already hold other sources: many files build one index, an FU
+/// found again (in this source or an earlier one) is recorded as a further origin of the
+/// first copy. Errors are collected in `errors` when it is given (the unit of a bad line is
+/// dropped), else the first one is returned; `cancel` is called every few thousand lines.
+pub fn parse_into(
+    b: &mut Builder,
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<()> {
+    b.begin_source(path);
     if json::is_json(data) {
-        json::parse_impl(data, path, opts, errors, cancel)
+        json::parse_impl(b, data, path, opts, errors, cancel)
     } else {
-        foon::parse_impl(data, path, opts, errors, cancel)
+        foon::parse_impl(b, data, path, opts, errors, cancel)
     }
 }
 
@@ -99,7 +118,7 @@ pub fn parse_foon_recovering(
 ) -> (Foon, Vec<Error>) {
     match parse_foon_recovering_cancellable(data, path, opts, &|| false) {
         Ok(r) => r,
-        Err(e) => (Builder::new().finish(path.map(Path::to_path_buf)), vec![e]),
+        Err(e) => (empty_of(path), vec![e]),
     }
 }
 
@@ -117,9 +136,16 @@ pub fn parse_foon_recovering_cancellable(
         Err(Error::Cancelled) => Err(Error::Cancelled),
         Err(e) => {
             errors.push(e);
-            Ok((Builder::new().finish(path.map(Path::to_path_buf)), errors))
+            Ok((empty_of(path), errors))
         }
     }
+}
+
+/// The empty FOON of a source that could not be read.
+fn empty_of(path: Option<&Path>) -> Foon {
+    let mut b = Builder::new();
+    b.begin_source(path);
+    b.finish()
 }
 
 /// Reads a file and parses it as FOON text.
