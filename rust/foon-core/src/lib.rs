@@ -18,6 +18,7 @@ pub mod model;
 pub mod parse;
 pub mod prepare;
 pub mod search;
+pub mod synth;
 pub mod verify;
 pub mod write;
 

@@ -13,6 +13,7 @@ mod loaders;
 mod plan;
 mod planner;
 mod serial;
+mod synth;
 mod writers;
 
 #[pyo3::pymodule]
@@ -36,6 +37,9 @@ mod _foon {
         object_fields, object_fields_of_mapping, object_identity, object_text, parse_objects,
         parse_rates, parse_utensils,
     };
+
+    #[pymodule_export]
+    use super::synth::{synth_goals, synth_kitchen, synth_motions, synth_text, synth_write};
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
