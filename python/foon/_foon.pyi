@@ -258,3 +258,29 @@ def verify_json(
 def check_json(findings: Sequence[tuple[str | None, int, int, str, str, str]]) -> str: ...
 def stats_json(rows: Sequence[tuple[str, Foon]]) -> str: ...
 def split_pddl(text: str) -> tuple[str, str]: ...
+
+# Synthetic FOONs (foon_core::synth).
+def synth_text(units: int, seed: int, threads: int | None = None) -> str: ...
+def synth_write(
+    units: int,
+    seed: int,
+    path: _Path | None = None,
+    threads: int | None = None,
+    progress: Any = None,
+    stream: bool = False,
+) -> tuple[int, int, int]: ...
+def synth_kitchen(units: int, seed: int) -> list[_Obj]: ...
+def synth_goals(units: int, seed: int, count: int) -> list[_Obj]: ...
+def synth_motions() -> list[tuple[str, float]]: ...
+def synth_side(
+    units: int, seed: int, what: str, count: int = 25, path: _Path | None = None
+) -> str | None: ...
+
+__all__ += [
+    "synth_goals",
+    "synth_kitchen",
+    "synth_motions",
+    "synth_side",
+    "synth_text",
+    "synth_write",
+]

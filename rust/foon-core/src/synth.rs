@@ -1618,6 +1618,29 @@ pub fn synth_motions() -> Vec<(String, f64)> {
     MOTIONS.iter().map(|m| (m.0.to_owned(), m.2)).collect()
 }
 
+/// [`synth_motions`] in the `motion.txt` shape (`motion<TAB>rate` lines).
+pub fn synth_motions_text() -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    for (m, r) in synth_motions() {
+        let _ = writeln!(s, "{m}\t{r:.2}");
+    }
+    s
+}
+
+/// One of the side files of a generation as text: `kitchen` (JSON), `goals` (JSON, up to
+/// `count`) or `motions` (the rate table).
+pub fn synth_side_text(opts: &SynthOptions, what: &str, count: usize) -> Result<String> {
+    match what {
+        "kitchen" => crate::write::json::objects_json(&synth_kitchen(opts)?),
+        "goals" => crate::write::json::objects_json(&synth_goals(opts, count)?),
+        "motions" => Ok(synth_motions_text()),
+        _ => Err(Error::Invalid(format!(
+            "unknown synth output '{what}' (choose from kitchen, goals, motions)"
+        ))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -39,7 +39,9 @@ mod _foon {
     };
 
     #[pymodule_export]
-    use super::synth::{synth_goals, synth_kitchen, synth_motions, synth_text, synth_write};
+    use super::synth::{
+        synth_goals, synth_kitchen, synth_motions, synth_side, synth_text, synth_write,
+    };
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};

@@ -2,6 +2,7 @@
 //! motion table.
 
 use foon_core::synth::{self, SynthOptions};
+
 use pyo3::prelude::*;
 
 use crate::convert::{ObjTuple, opt_path_arg, threads_arg, tuple_of};
@@ -44,10 +45,12 @@ pub(crate) fn synth_text(
     Ok(String::from_utf8(bytes).unwrap_or_default())
 }
 
-/// Writes the FOON to `path` atomically (`None`: standard output); returns (units, bytes,
-/// recipes). `progress(done, total)` is called after each batch of units.
+/// Writes the FOON to `path` atomically (`None`: standard output; `stream`: written into
+/// `path` as it is, for a device or a FIFO); returns (units, bytes, recipes).
+/// `progress(done, total)` is called after each batch of units.
 #[pyfunction]
-#[pyo3(signature = (units, seed, path = None, threads = None, progress = None))]
+#[pyo3(signature = (units, seed, path = None, threads = None, progress = None, stream = false))]
+#[allow(clippy::fn_params_excessive_bools)]
 pub(crate) fn synth_write(
     py: Python<'_>,
     units: &Bound<'_, PyAny>,
@@ -55,9 +58,11 @@ pub(crate) fn synth_write(
     path: Option<&Bound<'_, PyAny>>,
     threads: Option<&Bound<'_, PyAny>>,
     progress: Option<Py<PyAny>>,
+    stream: bool,
 ) -> PyResult<(u64, u64, u64)> {
     let opts = options(units, seed, threads_arg(threads)?)?;
     let path = opt_path_arg("path", path)?;
+    let broken = std::sync::atomic::AtomicBool::new(false);
     let r = enter(py, |cancel| {
         let mut tick = |done: u64, total: u64| {
             if let Some(f) = &progress {
@@ -67,14 +72,39 @@ pub(crate) fn synth_write(
             }
             !cancel()
         };
-        if let Some(p) = &path {
+        if let Some(p) = path.as_ref().filter(|_| stream) {
+            let f = std::fs::OpenOptions::new()
+                .write(true)
+                .open(p)
+                .map_err(|e| foon_core::Error::io(p, e))?;
+            let mut w = std::io::BufWriter::with_capacity(1 << 20, f);
+            synth::synth(&opts, &mut w, &mut tick).map_err(|e| match e {
+                foon_core::Error::Io { source, .. } => foon_core::Error::io(p, source),
+                other => other,
+            })
+        } else if let Some(p) = &path {
             synth::synth_to_path(&opts, p, &mut tick)
         } else {
             let stdout = std::io::stdout();
             let mut w = std::io::BufWriter::with_capacity(1 << 20, stdout.lock());
-            synth::synth(&opts, &mut w, &mut tick)
+            synth::synth(&opts, &mut w, &mut tick).map_err(|e| match e {
+                foon_core::Error::Io { source, .. } => {
+                    if source.kind() == std::io::ErrorKind::BrokenPipe {
+                        broken.store(true, std::sync::atomic::Ordering::Relaxed);
+                    }
+                    foon_core::Error::io(std::path::Path::new("<stdout>"), source)
+                }
+                other => other,
+            })
         }
-    })?;
+    });
+    if broken.load(std::sync::atomic::Ordering::Relaxed) {
+        // The reader went away (`foon synth ... | head`): what the CLI ends quietly on.
+        return Err(pyo3::exceptions::PyBrokenPipeError::new_err(
+            "standard output closed",
+        ));
+    }
+    let r = r?;
     Ok((r.units, r.bytes, r.recipes))
 }
 
@@ -107,4 +137,31 @@ pub(crate) fn synth_goals(
 #[pyfunction]
 pub(crate) fn synth_motions() -> Vec<(String, f64)> {
     synth::synth_motions()
+}
+
+/// A side file of the generation (`kitchen`, `goals` with up to `count` goals, `motions`):
+/// its text, or, given `path`, written there atomically (returning `None`).
+#[pyfunction]
+#[pyo3(signature = (units, seed, what, count = 25, path = None))]
+pub(crate) fn synth_side(
+    py: Python<'_>,
+    units: &Bound<'_, PyAny>,
+    seed: u64,
+    what: &str,
+    count: usize,
+    path: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<String>> {
+    let opts = options(units, seed, None)?;
+    let path = opt_path_arg("path", path)?;
+    enter(py, |_| {
+        let text = synth::synth_side_text(&opts, what, count)?;
+        match &path {
+            Some(p) => synth::write_atomic(p, |w| {
+                w.write_all(text.as_bytes())
+                    .map_err(|e| foon_core::Error::io(p, e))
+            })
+            .map(|()| None),
+            None => Ok(Some(text)),
+        }
+    })
 }
