@@ -87,7 +87,7 @@ def synth(
     if path is None:
         if progress is not None:
             raise ValueError("progress is only reported when writing to a path")
-        if n > SYNTH_TEXT_LIMIT:
+        if SYNTH_TEXT_LIMIT < n <= MAX_SYNTH_UNITS:
             raise ValueError(
                 f"units={n} is too many to return as text (at most {SYNTH_TEXT_LIMIT}); "
                 "give path= to write a file"

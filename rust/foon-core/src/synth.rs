@@ -839,7 +839,7 @@ fn addition(seed: u64, a: u64) -> (String, Vec<&'static str>, Option<&'static st
     };
     let mut g = Rng::new(seed, 4, a);
     let state = states_of(&mut g, RAW_ADD_STATES, 0.3, 0.1);
-    let container = g.chance(0.7).then(|| g.weighted(RAW_CONTAINERS));
+    let container = g.chance(0.8).then(|| g.weighted(RAW_CONTAINERS));
     (label, state, container)
 }
 
@@ -939,7 +939,7 @@ fn catalogue_item(p: &Plan, m: &Motions, x: u64, variants: u64, buf: &mut Vec<u8
         if g.chance(TOOL_BACK) {
             outs.push(obj(tool, &[], None));
         }
-        if with_surface && g.chance(0.6) {
+        if with_surface && g.chance(0.8) {
             outs.push(Obj {
                 label: it.surface,
                 states: &[],
@@ -1137,15 +1137,21 @@ fn transfer(
 ) -> bool {
     for _ in 0..4 {
         let to = g.weighted(VESSELS);
-        let key = (to, w.states.clone(), None);
+        let states = if g.chance(0.6) {
+            Vec::new()
+        } else {
+            w.states.clone()
+        };
+        let key = (to, states, None);
         if to == w.label || seen.contains(&key) {
             continue;
         }
+        w.states = key.1;
         let from = w.label;
         w.label = to;
         w.container = None;
         let empty = ["empty"];
-        let moved = w.inside.len().min(g.below(3));
+        let moved = w.inside.len().min(1 + g.below(2));
         let first = w.inside.len() - moved;
         let mut ins = vec![before.as_obj(), obj(to, &empty, None)];
         let mut outs = vec![w.obj()];
@@ -1153,7 +1159,7 @@ fn transfer(
             ins.push(obj(l, st, Some(from)));
             outs.push(obj(l, st, Some(to)));
         }
-        if g.chance(0.6) {
+        if g.chance(0.45) {
             outs.push(obj(from, &empty, None));
         }
         unit(buf, &ins, motion, &outs);
@@ -1248,7 +1254,7 @@ fn mix_step(g: &mut Rng, motion: &str, w: &mut Vessel, before: &Before, buf: &mu
     let changed = taken
         .first()
         .copied()
-        .filter(|&i| g.chance(0.8) && w.inside[i].1 != [new_state]);
+        .filter(|&i| g.chance(0.7) && w.inside[i].1 != [new_state]);
     let changed_states = [new_state];
     {
         let mut ins = vec![before.as_obj()];
@@ -1327,13 +1333,13 @@ fn add(p: &Plan, g: &mut Rng, motion: &str, w: &mut Vessel, before: &Before, buf
     }
     let (_, st, container) = addition(p.seed, a);
     w.contents.push(label.clone());
-    if !g.chance(0.3) {
+    if !g.chance(0.1) {
         w.states.clear();
     }
     let held = [label.clone()];
     let mut ins = vec![before.as_obj(), obj(&label, &st, container)];
     if let Some(c) = container {
-        if g.chance(0.35) {
+        if g.chance(0.6) {
             ins.push(Obj {
                 label: c,
                 states: &[],
@@ -1352,7 +1358,7 @@ fn add(p: &Plan, g: &mut Rng, motion: &str, w: &mut Vessel, before: &Before, buf
     }
     let empty = ["empty"];
     let mut outs = vec![w.obj()];
-    let goes_inside = g.chance(0.8);
+    let goes_inside = g.chance(0.85);
     if goes_inside {
         outs.push(obj(&label, &st, Some(w.label)));
     }
@@ -1569,6 +1575,15 @@ pub fn synth_kitchen(opts: &SynthOptions) -> Result<Vec<ObjectSpec>> {
         let (label, state, container) = addition(p.seed, a);
         if !miss.chance(KITCHEN_MISS) {
             out.push(spec(&label, &state, container));
+            // The container it comes in, holding it (`packet {flour}`).
+            if let Some(c) = container {
+                out.push(ObjectSpec {
+                    label: c.to_owned(),
+                    states: Vec::new(),
+                    ingredients: vec![label.clone()],
+                    container: None,
+                });
+            }
         }
     }
     for r in 0..p.recipes {
