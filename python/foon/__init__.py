@@ -48,12 +48,24 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
+    from foon._synth import (
+        MAX_SYNTH_UNITS,
+        SYNTH_TEXT_LIMIT,
+        SynthReport,
+        synth,
+        synth_goals,
+        synth_kitchen,
+        synth_motions,
+    )
+
 __version__: str = _foon.__version__
 
 __all__ = [
     "FORMATS",
     "MAX_PICTURE_NODES",
+    "MAX_SYNTH_UNITS",
     "METHODS",
+    "SYNTH_TEXT_LIMIT",
     "Blocked",
     "Example",
     "Finding",
@@ -69,6 +81,7 @@ __all__ = [
     "OutputError",
     "ParseError",
     "Planner",
+    "SynthReport",
     "TaskTree",
     "TreeCheck",
     "check",
@@ -76,7 +89,39 @@ __all__ = [
     "load",
     "load_goals",
     "load_utensils",
+    "synth",
+    "synth_goals",
+    "synth_kitchen",
+    "synth_motions",
 ]
+
+#: Names defined in submodules that ``import foon`` does not load until they are used.
+_LAZY: dict[str, str] = {
+    **dict.fromkeys(
+        (
+            "MAX_SYNTH_UNITS",
+            "SYNTH_TEXT_LIMIT",
+            "SynthReport",
+            "synth",
+            "synth_goals",
+            "synth_kitchen",
+            "synth_motions",
+        ),
+        "foon._synth",
+    ),
+}
+
+
+def __getattr__(name: str) -> object:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'foon' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
 
 #: Every planning method, in the order comparison tables list them.
 METHODS: tuple[str, ...] = tuple(_foon.methods())

@@ -1,5 +1,5 @@
 """The ``foon`` command line: ``foon plan``, ``compare``, ``verify``, ``check``, ``stats``,
-``export``, ``draw``.
+``export``, ``draw``, ``synth``.
 
 Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
 stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
@@ -82,7 +82,11 @@ def _folder(text: str) -> str:
 
 
 #: The commands, in the order ``foon --help`` lists them.
-COMMANDS = ("plan", "compare", "verify", "check", "stats", "export", "draw")
+COMMANDS = ("plan", "compare", "verify", "check", "stats", "export", "draw", "synth")
+
+#: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
+#: ``add_NAME_options``), imported only when the command runs.
+_OWN_MODULE = ("synth",)
 
 
 def _columns() -> int:
@@ -176,6 +180,13 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
                 "--kitchen) a PDDL domain and problem."
             ),
         ),
+        "synth": (
+            "generate a synthetic merged FOON",
+            (
+                "Writes a realistic merged FOON of exactly --units units (course dialect), "
+                "deterministic for --seed, with its kitchen, goals and motion table on request."
+            ),
+        ),
         "draw": (
             "draw a FOON or the neighbourhood of one object",
             (
@@ -190,7 +201,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         sp = sub.add_parser(name, help=brief, description=description)
         sp.set_defaults(parser=sp)
         if only is None or only == name:
-            _OPTIONS[name](sp)
+            _options(name)(sp)
     return p
 
 
@@ -365,6 +376,24 @@ def _draw_options(sp: argparse.ArgumentParser) -> None:
     _export_options(sp, draw=True)
 
 
+def _command_module(name: str) -> Any:
+    """The module that implements command ``name``."""
+    import importlib
+
+    if name in _OWN_MODULE:
+        return importlib.import_module(f"foon._cli_{name}")
+    return importlib.import_module("foon._cli_commands")
+
+
+def _options(name: str) -> Callable[[argparse.ArgumentParser], None]:
+    if name in _OWN_MODULE:
+        fn: Callable[[argparse.ArgumentParser], None] = getattr(
+            _command_module(name), f"add_{name}_options"
+        )
+        return fn
+    return _OPTIONS[name]
+
+
 _OPTIONS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "plan": _plan_options,
     "compare": _compare_options,
@@ -459,9 +488,7 @@ def _run(argv: list[str]) -> int:
         except SystemExit as e:
             return e.code if isinstance(e.code, int) else 2
     try:
-        from foon import _cli_commands
-
-        code: int = getattr(_cli_commands, "cmd_" + args.cmd)(args)
+        code: int = getattr(_command_module(args.cmd), "cmd_" + args.cmd)(args)
         sys.stdout.flush()
         return code
     except BrokenPipeError:
