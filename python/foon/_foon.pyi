@@ -9,6 +9,7 @@ __all__ = [
     "Foon",
     "FoonError",
     "GoalNotFoundError",
+    "Kitchen",
     "MissingRateError",
     "OutputError",
     "ParseError",
@@ -152,11 +153,33 @@ class Plan:
     def _from_state(state: tuple[Any, ...]) -> Plan: ...
 
 @final
+class Kitchen:
+    """A set of object identities in the order of first appearance (immutable)."""
+
+    def __new__(cls, items: list[_Obj] = ...) -> Kitchen: ...
+    @staticmethod
+    def load(path: _Path) -> Kitchen: ...
+    @staticmethod
+    def parse(text: str | bytes, path: _Path | None = None) -> Kitchen: ...
+    def __len__(self) -> int: ...
+    def get(self, i: int) -> _Obj: ...
+    def slice(self, start: int, stop: int) -> list[_Obj]: ...
+    def tuples(self) -> list[_Obj]: ...
+    def contains(self, o: _Obj) -> bool: ...
+    def equals(self, other: Kitchen) -> bool: ...
+    @property
+    def fingerprint(self) -> str: ...
+    def without(self, drop: Kitchen) -> Kitchen: ...
+    def with_items(self, add: Kitchen) -> Kitchen: ...
+    def to_json(self) -> str: ...
+    def heap_bytes(self) -> int: ...
+
+@final
 class Planner:
     def __new__(
         cls,
         foon: Foon,
-        kitchen: list[_Obj],
+        kitchen: Kitchen,
         utensils: list[str],
         rates: list[tuple[str, float]] | None = None,
         default_rate: float | None = None,
@@ -196,7 +219,7 @@ def max_threads() -> int:
 
 def check(
     paths: list[_Path],
-    kitchen: list[_Obj] | None = None,
+    kitchen: Kitchen | None = None,
     rates: list[tuple[str, float]] | None = None,
     utensils: list[str] = ...,
     rates_file: _Path | None = None,
