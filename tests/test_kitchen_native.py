@@ -112,6 +112,10 @@ def test_pickle_round_trip(course: Course) -> None:
         back = pickle.loads(pickle.dumps(k))
         assert back == k and written(back) == written(k) and back.fingerprint == k.fingerprint
         assert repr(back) == repr(k) == f"Kitchen({len(k)} items)"
+    data = course.kitchen._native.to_bytes()
+    for bad in (data[:-1], data + b"x", b"FOONKIT2" + data[8:], b""):
+        with pytest.raises(ValueError, match="not a valid serialised kitchen"):
+            _foon.Kitchen.from_bytes(bad)
 
 
 def test_with_without_and_indexing() -> None:

@@ -317,7 +317,7 @@ class Kitchen:
         return hash(self._native.fingerprint)
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return (_kitchen_of_json, (self.to_json(),))
+        return (_kitchen_of_bytes, (self._native.to_bytes(),))
 
     def without(self, drop: Iterable[ObjectLike]) -> Kitchen:
         """A copy without the given items."""
@@ -345,9 +345,9 @@ def _kitchen(native: _foon.Kitchen) -> Kitchen:
     return k
 
 
-def _kitchen_of_json(text: str) -> Kitchen:
-    """A pickled kitchen, from its JSON form."""
-    return _kitchen(_foon.Kitchen.parse(text))
+def _kitchen_of_bytes(data: bytes) -> Kitchen:
+    """A pickled kitchen, from its compact bytes."""
+    return _kitchen(_foon.Kitchen.from_bytes(data))
 
 
 def _as_kitchen(k: KitchenLike) -> Kitchen:

@@ -453,6 +453,132 @@ impl Kitchen {
     }
 }
 
+/// The magic of [`Kitchen::to_bytes`]: the format's name and version.
+const MAGIC: &[u8; 8] = b"FOONKIT1";
+
+/// Reads little-endian `u32`s from a byte slice, any shortfall an error.
+struct Reader<'a>(&'a [u8]);
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
+        if self.0.len() < n {
+            return Err(bytes_error("truncated"));
+        }
+        let (a, b) = self.0.split_at(n);
+        self.0 = b;
+        Ok(a)
+    }
+
+    fn u32(&mut self) -> Result<u32> {
+        let b = self.take(4)?;
+        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    }
+
+    fn count(&mut self) -> Result<usize> {
+        let n = self.u32()? as usize;
+        // Every counted thing takes at least one byte: a larger count is a corrupt header.
+        if n > self.0.len() {
+            return Err(bytes_error("a count is larger than the data"));
+        }
+        Ok(n)
+    }
+}
+
+fn bytes_error(why: &str) -> Error {
+    Error::Invalid(format!("not a valid serialised kitchen: {why}"))
+}
+
+impl Kitchen {
+    /// The kitchen as bytes (for pickling and shipping to other processes): a magic, the
+    /// fingerprint, the string table (lengths, then text) and, per item, the string indices
+    /// of its label, container (or `u32::MAX`), states and ingredients with their counts;
+    /// all little-endian `u32`, so the same on every platform. [`Kitchen::from_bytes`] reads
+    /// it back.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let n = self.strings.len();
+        let mut out = Vec::with_capacity(
+            32 + 4 * (n + 4 * self.len() + self.fields.len()) + self.strings.heap_bytes() / 2,
+        );
+        let put = |out: &mut Vec<u8>, x: u32| out.extend_from_slice(&x.to_le_bytes());
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&self.fingerprint().to_le_bytes());
+        put(&mut out, n as u32);
+        for id in 0..n as u32 {
+            put(&mut out, self.strings.text(id).len() as u32);
+        }
+        for id in 0..n as u32 {
+            out.extend_from_slice(self.strings.text(id).as_bytes());
+        }
+        put(&mut out, self.len() as u32);
+        for i in 0..self.len() {
+            let (st, ing) = self.ids(i);
+            put(&mut out, self.label[i]);
+            put(&mut out, self.container[i]);
+            put(&mut out, st.len() as u32);
+            put(&mut out, ing.len() as u32);
+            for &x in st.iter().chain(ing) {
+                put(&mut out, x);
+            }
+        }
+        out
+    }
+
+    /// Reads [`Kitchen::to_bytes`]. Anything else (truncated, corrupt, another version) is
+    /// an error, never a panic: every index is checked, the kitchen is rebuilt item by item
+    /// and its fingerprint must be the one recorded.
+    pub fn from_bytes(data: &[u8]) -> Result<Self> {
+        let mut r = Reader(data);
+        if r.take(8)? != MAGIC {
+            return Err(bytes_error("wrong magic or version"));
+        }
+        let mut fp = [0u8; 16];
+        fp.copy_from_slice(r.take(16)?);
+        let n = r.count()?;
+        let lens = (0..n).map(|_| r.u32()).collect::<Result<Vec<u32>>>()?;
+        let mut strs = Vec::with_capacity(n);
+        for len in lens {
+            let b = r.take(len as usize)?;
+            strs.push(std::str::from_utf8(b).map_err(|_| bytes_error("invalid UTF-8"))?);
+        }
+        let text = |id: u32| {
+            strs.get(id as usize)
+                .copied()
+                .ok_or_else(|| bytes_error("a string index is out of range"))
+        };
+        let items = r.count()?;
+        let mut k = Self::new();
+        let mut ids = Vec::new();
+        for _ in 0..items {
+            let label = text(r.u32()?)?;
+            let container = match r.u32()? {
+                NONE => None,
+                c => Some(text(c)?),
+            };
+            let (ns, ni) = (r.count()?, r.count()?);
+            ids.clear();
+            for _ in 0..ns + ni {
+                ids.push(text(r.u32()?)?);
+            }
+            if !k.push(
+                label,
+                ids[..ns].iter().copied(),
+                ids[ns..].iter().copied(),
+                container,
+            ) {
+                return Err(bytes_error("an item repeats"));
+            }
+        }
+        if !r.0.is_empty() {
+            return Err(bytes_error("trailing bytes"));
+        }
+        let k = k.finish()?;
+        if k.fingerprint() != u128::from_le_bytes(fp) {
+            return Err(bytes_error("the fingerprint does not match the items"));
+        }
+        Ok(k)
+    }
+}
+
 impl Default for Kitchen {
     fn default() -> Self {
         Self::new()
@@ -659,6 +785,41 @@ mod tests {
         );
     }
 
+    #[test]
+    fn bytes_round_trip_and_refuse_corruption() {
+        let k = Kitchen::from_specs(&[
+            spec("onion", &["chopped", "red"], &["a", ""], Some("bowl")),
+            spec("é", &[], &[], Some("")),
+            spec("salt", &[], &[], None),
+        ])
+        .unwrap();
+        let b = k.to_bytes();
+        let back = Kitchen::from_bytes(&b).unwrap();
+        assert_eq!(written(&back.specs()), written(&k.specs()));
+        assert_eq!(back.fingerprint(), k.fingerprint());
+        assert!(
+            Kitchen::from_bytes(&Kitchen::new().to_bytes())
+                .unwrap()
+                .is_empty()
+        );
+        // Every truncation and every flipped byte is an error or the same kitchen, never a
+        // panic (a flipped byte in a string's text changes the fingerprint).
+        for n in 0..b.len() {
+            assert!(Kitchen::from_bytes(&b[..n]).is_err());
+            for bit in [0x01u8, 0x80] {
+                let mut c = b.clone();
+                c[n] ^= bit;
+                if let Ok(x) = Kitchen::from_bytes(&c) {
+                    assert_eq!(x, k);
+                }
+            }
+        }
+        let mut long = b.clone();
+        long.push(0);
+        let e = Kitchen::from_bytes(&long).unwrap_err().to_string();
+        assert!(e.contains("not a valid serialised kitchen"), "{e}");
+    }
+
     fn shared() -> Option<PathBuf> {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/foon");
         if p.join("FOON.txt").is_file() {
@@ -749,6 +910,7 @@ mod tests {
             let mut both = want.clone();
             both.extend(distinct(&other).into_iter().filter(|s| !want.contains(s)));
             prop_assert_eq!(written(&k.with(&o).unwrap().specs()), written(&both));
+            prop_assert!(Kitchen::from_bytes(&k.to_bytes()).unwrap() == k);
             // Text round trip through the JSON form.
             let json = crate::write::json::objects_json(&k.specs()).unwrap();
             prop_assert!(Kitchen::parse(json.as_bytes(), None).unwrap() == k);

@@ -7,6 +7,7 @@ use foon_core::Kitchen;
 use foon_core::write::json;
 use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 
 use crate::convert::{ObjTuple, opt_path_arg, path_arg, spec_of, text_bytes, tuple_of};
 use crate::errors::{PyFoonErr, enter};
@@ -111,6 +112,18 @@ impl PyKitchen {
     fn with_items(&self, py: Python<'_>, add: &Self) -> PyResult<Self> {
         let (a, b) = (&*self.inner, &*add.inner);
         Ok(Self::of(enter(py, |_| a.with(b))?))
+    }
+
+    /// The kitchen's compact, platform-independent bytes (for pickling).
+    fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        let k = &*self.inner;
+        PyBytes::new(py, &py.detach(|| k.to_bytes()))
+    }
+
+    /// A kitchen from `to_bytes`; anything else is a `ValueError`.
+    #[staticmethod]
+    fn from_bytes(py: Python<'_>, data: &[u8]) -> PyResult<Self> {
+        Ok(Self::of(enter(py, |_| Kitchen::from_bytes(data))?))
     }
 
     /// The kitchen as a JSON list of objects (the kitchen file shape).
