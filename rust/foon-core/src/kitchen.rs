@@ -41,6 +41,8 @@ pub struct Kitchen {
     fingerprint: OnceLock<u128>,
     /// Set when a column would pass `u32` (reported as an error by the builders).
     too_large: bool,
+    /// The canonical key of the item being added (reused from item to item).
+    scratch: Vec<u32>,
 }
 
 /// The identity hash of an item given by string ids of one table, its states and
@@ -70,6 +72,7 @@ impl Kitchen {
             table: HashTable::new(),
             fingerprint: OnceLock::new(),
             too_large: false,
+            scratch: Vec::new(),
         }
     }
 
@@ -145,11 +148,13 @@ impl Kitchen {
             let id = self.strings.intern(s);
             self.fields.push(id);
         }
-        let mut key = Vec::new();
+        let mut key = std::mem::take(&mut self.scratch);
         let ns = canonical_into(&self.fields[first..split], &self.fields[split..], &mut key);
         let (st, ing) = key.split_at(ns);
         let h = id_hash(label, container, st, ing);
-        if self.find_ids(h, label, container, st, ing).is_some() {
+        let found = self.find_ids(h, label, container, st, ing).is_some();
+        self.scratch = key;
+        if found {
             self.fields.truncate(first);
             return false;
         }

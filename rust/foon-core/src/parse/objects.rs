@@ -377,17 +377,13 @@ struct JsonObject<'a> {
 
 impl JsonObject<'_> {
     fn give(&self, sink: &mut impl ObjectSink) {
-        fn strs<'b>(v: Option<&'b Vec<Text<'_>>>) -> Vec<&'b str> {
-            v.map_or(&[][..], Vec::as_slice)
-                .iter()
-                .map(|t| &*t.0)
-                .collect()
+        fn strs<'b>(v: Option<&'b Vec<Text<'_>>>) -> impl Iterator<Item = &'b str> {
+            v.map_or(&[][..], Vec::as_slice).iter().map(|t| &*t.0)
         }
-        let (states, ingredients) = (strs(self.states.as_ref()), strs(self.ingredients.as_ref()));
         sink.object(
             &self.label.0,
-            states.into_iter(),
-            ingredients.into_iter(),
+            strs(self.states.as_ref()),
+            strs(self.ingredients.as_ref()),
             self.container.as_ref().map(|c| &*c.0),
         );
     }
