@@ -291,9 +291,17 @@ def _emit_warnings(items: Sequence[tuple[str | None, int, int, str, str]]) -> No
 
 
 class Kitchen:
-    """The objects at hand. An object is available iff its identity equals an item's."""
+    """The objects at hand. An object is available iff its identity equals an item's.
 
-    __slots__ = ("_cached", "items")
+    A handle on the core's kitchen: a set of identities (an item repeated, in any order of
+    its states and ingredients, counts once) kept in the order of first appearance. Reading,
+    matching and comparing happen in the core; items become :class:`Object` s only when they
+    are asked for (iteration, ``items``). Equality ignores the order of the items; the
+    ``fingerprint`` names the set on any machine."""
+
+    __slots__ = ("_native",)
+
+    _native: _foon.Kitchen
 
     def __init__(self, items: Iterable[ObjectLike] = ()) -> None:
         if isinstance(items, (*_PATH_TYPES, Mapping, Object)):
@@ -301,60 +309,90 @@ class Kitchen:
                 f"items must be an iterable of objects, not {_type(items)} (use Kitchen.load "
                 "for a file)"
             )
-        self.items: tuple[Object, ...] = tuple(_as_object(o, "a kitchen item") for o in items)
-        self._cached: list[tuple[str, list[str], list[str], str | None]] | None = None
+        if isinstance(items, Kitchen):
+            self._native = items._native
+            return
+        self._native = _foon.Kitchen([_as_object(o, "a kitchen item")._tuple() for o in items])
 
     @classmethod
     def load(cls, path: PathLike) -> Kitchen:
         """From a JSON list of objects or a file of FOON object blocks (``O``/``S`` lines)."""
-        return _kitchen(_foon.load_objects(path, "kitchen"))
+        return _kitchen(_foon.Kitchen.load(path))
 
     @classmethod
     def from_text(cls, text: str | bytes) -> Kitchen:
         """From JSON text or FOON object blocks."""
-        return _kitchen(_foon.parse_objects(text, "kitchen"))
+        return _kitchen(_foon.Kitchen.parse(text))
+
+    @property
+    def items(self) -> tuple[Object, ...]:
+        """Every item, as an :class:`Object` (built on each call)."""
+        return tuple(self)
+
+    @property
+    def fingerprint(self) -> str:
+        """32 hex digits naming the set of identities, the same on every machine and for
+        every order of the items."""
+        return self._native.fingerprint
 
     def __iter__(self) -> Iterator[Object]:
-        return iter(self.items)
+        n, native = len(self._native), self._native
+        for start in range(0, n, 1024):
+            for t in native.slice(start, start + 1024):
+                yield _object(t)
 
     def __len__(self) -> int:
-        return len(self.items)
+        return len(self._native)
+
+    def __getitem__(self, i: int) -> Object:
+        if not isinstance(i, int):
+            raise TypeError(f"kitchen indices must be integers, not {_type(i)}")
+        n = len(self._native)
+        if not -n <= i < n:
+            raise IndexError(f"kitchen index {i} out of range ({n} items)")
+        return _object(self._native.get(i % n))
 
     def __contains__(self, o: object) -> bool:
-        return isinstance(o, Object | Mapping) and _as_object(o) in self.items
+        return isinstance(o, Object | Mapping) and self._native.contains(_as_object(o)._tuple())
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Kitchen) and self.items == other.items
+        return isinstance(other, Kitchen) and self._native.equals(other._native)
 
     def __hash__(self) -> int:
-        return hash(self.items)
+        return hash(self._native.fingerprint)
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return (Kitchen, (self.items,))
+        return (_kitchen_of_bytes, (self._native.to_bytes(),))
 
     def without(self, drop: Iterable[ObjectLike]) -> Kitchen:
         """A copy without the given items."""
-        gone = {_as_object(o) for o in drop}
-        return Kitchen(o for o in self.items if o not in gone)
+        return _kitchen(self._native.without(_as_kitchen(drop)._native))
+
+    def with_items(self, add: Iterable[ObjectLike]) -> Kitchen:
+        """A copy with the given items added (after its own, those it lacks, in order)."""
+        return _kitchen(self._native.with_items(_as_kitchen(add)._native))
 
     def to_json(self) -> str:
         """The kitchen as a JSON list of objects (the kitchen file shape)."""
-        return _foon.objects_json(self._tuples())
+        return self._native.to_json()
 
     def _tuples(self) -> list[tuple[str, list[str], list[str], str | None]]:
-        if self._cached is None:
-            self._cached = [o._tuple() for o in self.items]
-        return self._cached
+        """The items as field tuples, for the calls that take a list of objects."""
+        return self._native.tuples()
 
     def __repr__(self) -> str:
-        return f"Kitchen({len(self.items)} items)"
+        return f"Kitchen({len(self._native)} items)"
 
 
-def _kitchen(raw: Iterable[tuple[str, list[str], list[str], str | None]]) -> Kitchen:
+def _kitchen(native: _foon.Kitchen) -> Kitchen:
     k: Kitchen = _new(Kitchen)
-    k.items = tuple(_object(t) for t in raw)
-    k._cached = None
+    k._native = native
     return k
+
+
+def _kitchen_of_bytes(data: bytes) -> Kitchen:
+    """A pickled kitchen, from its compact bytes."""
+    return _kitchen(_foon.Kitchen.from_bytes(data))
 
 
 def _as_kitchen(k: KitchenLike) -> Kitchen:
@@ -1204,7 +1242,7 @@ class Planner:
         self.default_rate = default_rate
         self._native = _foon.Planner(
             foon._native,
-            self.kitchen._tuples(),
+            self.kitchen._native,
             self.utensils,
             None if self.motions is None else list(self.motions.items()),
             default_rate,
@@ -1352,7 +1390,7 @@ def check(
     rates = None if rates_file is not None else _as_rates(motions)
     raw = _foon.check(
         ps,
-        None if kitchen is None else _as_kitchen(kitchen)._tuples(),
+        None if kitchen is None else _as_kitchen(kitchen)._native,
         None if rates is None else list(rates.items()),
         _as_utensils(utensils),
         rates_file,

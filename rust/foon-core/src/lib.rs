@@ -13,6 +13,7 @@ pub mod error;
 pub mod evaluate;
 mod forward;
 pub mod index;
+pub mod kitchen;
 pub mod lint;
 pub mod model;
 pub mod parse;
@@ -24,6 +25,7 @@ pub mod write;
 
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
 pub use index::{Foon, NONE, Stats};
+pub use kitchen::Kitchen;
 pub use model::{MotionRates, ObjectSpec, check_rate};
 pub use parse::{
     ParseOptions, load_foon, load_foon_cancellable, parse_foon, parse_foon_cancellable,

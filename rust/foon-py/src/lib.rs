@@ -9,6 +9,7 @@ mod convert;
 mod errors;
 mod foon;
 mod json;
+mod kitchen;
 mod loaders;
 mod plan;
 mod planner;
@@ -22,6 +23,8 @@ mod _foon {
     use super::foon::PyFoon;
     #[pymodule_export]
     use super::json::{check_json, objects_json, stats_json, verify_json};
+    #[pymodule_export]
+    use super::kitchen::PyKitchen;
     #[pymodule_export]
     use super::plan::PyPlan;
     #[pymodule_export]

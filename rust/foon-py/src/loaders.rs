@@ -9,9 +9,10 @@ use pyo3::types::PyTuple;
 
 use crate::convert::{
     ObjTuple, location, opt_path_arg, path_arg, rate_pairs_arg, spec_arg, spec_fields,
-    spec_of_mapping, specs_of, text_bytes, tuple_of,
+    spec_of_mapping, text_bytes, tuple_of,
 };
 use crate::errors::{PyFoonErr, enter};
+use crate::kitchen::PyKitchen;
 
 fn kind_of(kind: &str) -> PyResult<InputKind> {
     match kind {
@@ -171,7 +172,7 @@ type FindingTuple = (Option<String>, u64, u32, &'static str, &'static str, Strin
 pub(crate) fn check(
     py: Python<'_>,
     paths: Vec<Bound<'_, PyAny>>,
-    kitchen: Option<Vec<ObjTuple>>,
+    kitchen: Option<PyRef<'_, PyKitchen>>,
     rates: Option<Vec<(String, f64)>>,
     utensils: Vec<String>,
     rates_file: Option<&Bound<'_, PyAny>>,
@@ -181,7 +182,7 @@ pub(crate) fn check(
         .map(|p| path_arg("paths", p))
         .collect::<PyResult<Vec<_>>>()?;
     let rates_file = opt_path_arg("rates_file", rates_file)?;
-    let kitchen = kitchen.map(specs_of);
+    let kitchen = kitchen.map(|k| k.inner.specs());
     let rates = rates
         .map(MotionRates::from_pairs)
         .transpose()

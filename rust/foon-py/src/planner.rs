@@ -7,11 +7,10 @@ use foon_core::search::batch::{self, BatchOptions};
 use foon_core::{Context, Prepared, Query};
 use pyo3::prelude::*;
 
-use crate::convert::{
-    ObjTuple, rate_arg, rate_pairs_arg, specs_of, str_field, str_list_field, threads_arg,
-};
+use crate::convert::{rate_arg, rate_pairs_arg, str_field, str_list_field, threads_arg};
 use crate::errors::{Cancel, PyFoonErr, enter, enter_here};
 use crate::foon::{PyFoon, check_fu, check_object};
+use crate::kitchen::PyKitchen;
 use crate::plan::PyPlan;
 
 /// (valid in some order, height, first position whose needed inputs are unavailable).
@@ -30,12 +29,11 @@ impl PyPlanner {
     fn new(
         py: Python<'_>,
         foon: &PyFoon,
-        kitchen: Vec<ObjTuple>,
+        kitchen: &PyKitchen,
         utensils: &Bound<'_, PyAny>,
         rates: Option<&Bound<'_, PyAny>>,
         default_rate: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let kitchen = specs_of(kitchen);
         let utensils = str_list_field("utensils", utensils)?;
         let rates = rates
             .filter(|r| !r.is_none())
@@ -50,8 +48,11 @@ impl PyPlanner {
             .transpose()
             .map_err(PyFoonErr)?;
         let f = Arc::clone(&foon.inner);
+        let kitchen = &*kitchen.inner;
+        // The kitchen is matched in the core, through the FOON's string table.
         let prep = enter(py, |_| {
-            Prepared::new(&f, &kitchen, &utensils, rates.as_ref(), default_rate)
+            let ids = kitchen.match_in(&f);
+            Prepared::with_objects(&f, &ids, &utensils, rates.as_ref(), default_rate)
         })?;
         Ok(Self {
             foon: f,
