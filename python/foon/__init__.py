@@ -1188,7 +1188,7 @@ class Foon:
         t = tree if isinstance(tree, Foon) else Foon.load(tree)
         d = self._native.verify_tree(
             t._native,
-            _as_kitchen(kitchen)._tuples(),
+            _as_kitchen(kitchen)._native,
             _as_utensils(utensils),
             _as_object(goal, "goal")._tuple(),
         )

@@ -382,7 +382,7 @@ def cmd_verify(args: argparse.Namespace) -> int:
         import json
 
         report = _foon.verify_json(
-            f._native, tree._native, kitchen._tuples(), list(utensils), goal._tuple()
+            f._native, tree._native, kitchen._native, list(utensils), goal._tuple()
         )
         sys.stdout.write(report)
         return 0 if json.loads(report)["valid"] else 1

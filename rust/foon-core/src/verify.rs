@@ -4,6 +4,7 @@
 use crate::error::Result;
 use crate::evaluate::run_in_order;
 use crate::index::Foon;
+use crate::kitchen::Kitchen;
 use crate::model::ObjectSpec;
 use crate::prepare::Prepared;
 
@@ -41,11 +42,11 @@ impl TreeReport {
 pub fn verify_tree(
     foon: &Foon,
     tree: &Foon,
-    kitchen: &[ObjectSpec],
+    kitchen: &Kitchen,
     utensils: &[String],
     goal: &ObjectSpec,
 ) -> Result<TreeReport> {
-    let prep = Prepared::new(tree, kitchen, utensils, None, None)?;
+    let prep = Prepared::with_objects(tree, &kitchen.match_in(tree), utensils, None, None)?;
     let n = tree.fu_count() as u32;
     let units: Vec<u32> = (0..n).collect();
     let (blocked, avail) = run_in_order(tree, &prep, &units);

@@ -65,12 +65,26 @@ fn verify_finds_a_unit_without_inputs_whose_first_output_is_bare() {
     let text = "M\ttake\nO\tknife\nO\tonion\nS\twhole\n//\nO\tonion\nS\twhole\nM\tchop\nO\tonion\nS\tchopped\n//\n";
     let f = foon(text);
     let tree = foon(text);
-    let report = verify_tree(&f, &tree, &[], &[], &spec("onion", &["chopped"], &[], None)).unwrap();
+    let report = verify_tree(
+        &f,
+        &tree,
+        &foon_core::Kitchen::new(),
+        &[],
+        &spec("onion", &["chopped"], &[], None),
+    )
+    .unwrap();
     assert_eq!(report.foreign_units, vec![]);
     assert!(report.is_valid());
     // A unit that is not in the FOON is still reported.
     let other = foon("M\ttake\nO\tfork\n//\n");
-    let report = verify_tree(&f, &other, &[], &[], &spec("fork", &[], &[], None)).unwrap();
+    let report = verify_tree(
+        &f,
+        &other,
+        &foon_core::Kitchen::new(),
+        &[],
+        &spec("fork", &[], &[], None),
+    )
+    .unwrap();
     assert_eq!(report.foreign_units, vec![(0, 1)]);
 }
 

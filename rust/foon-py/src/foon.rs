@@ -9,8 +9,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyString, PyTuple};
 
 use crate::convert::{
-    ObjTuple, fu_index, location, object_index, opt_path_arg, path_arg, spec_of, specs_of,
-    text_bytes, tuple_of,
+    ObjTuple, fu_index, location, object_index, opt_path_arg, path_arg, spec_of, text_bytes,
+    tuple_of,
 };
 use crate::errors::{Cancel, PyFoonErr, enter};
 use crate::serial;
@@ -298,11 +298,11 @@ impl PyFoon {
         &self,
         py: Python<'py>,
         tree: &PyFoon,
-        kitchen: Vec<ObjTuple>,
+        kitchen: PyRef<'_, crate::kitchen::PyKitchen>,
         utensils: Vec<String>,
         goal: ObjTuple,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let kitchen = specs_of(kitchen);
+        let kitchen = std::sync::Arc::clone(&kitchen.inner);
         let goal = spec_of(goal);
         let (foon, tree) = (&self.inner, &tree.inner);
         let r = enter(py, |_| {

@@ -23,11 +23,11 @@ pub(crate) fn verify_json(
     py: Python<'_>,
     foon: &PyFoon,
     tree: &PyFoon,
-    kitchen: Vec<ObjTuple>,
+    kitchen: PyRef<'_, crate::kitchen::PyKitchen>,
     utensils: Vec<String>,
     goal: ObjTuple,
 ) -> PyResult<String> {
-    let kitchen = specs_of(kitchen);
+    let kitchen = std::sync::Arc::clone(&kitchen.inner);
     let goal = spec_of(goal);
     let (foon, tree) = (&foon.inner, &tree.inner);
     enter(py, |_| {

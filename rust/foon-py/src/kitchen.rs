@@ -20,7 +20,7 @@ pub(crate) struct PyKitchen {
 }
 
 impl PyKitchen {
-    fn of(k: Kitchen) -> Self {
+    pub(crate) fn of(k: Kitchen) -> Self {
         Self { inner: Arc::new(k) }
     }
 }

@@ -114,10 +114,12 @@ pub(crate) fn synth_kitchen(
     py: Python<'_>,
     units: &Bound<'_, PyAny>,
     seed: u64,
-) -> PyResult<Vec<ObjTuple>> {
+) -> PyResult<crate::kitchen::PyKitchen> {
     let opts = options(units, seed, None)?;
-    let v = enter(py, |_| synth::synth_kitchen(&opts))?;
-    Ok(v.into_iter().map(tuple_of).collect())
+    let k = enter(py, |_| {
+        synth::synth_kitchen(&opts).and_then(|v| foon_core::Kitchen::from_specs(&v))
+    })?;
+    Ok(crate::kitchen::PyKitchen::of(k))
 }
 
 /// Up to `count` goals (dishes) spread over the FOON of these options.
