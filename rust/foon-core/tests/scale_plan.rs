@@ -124,8 +124,7 @@ fn same_plans(text: &str, density: u8, kseed: &[u8], rates: u8) -> Result<usize,
         .collect();
     let table = MotionRates::from_pairs(pairs).unwrap();
     let (table, default) = match rates {
-        0 => (Some(&table), None),
-        1 => (Some(&table), None),
+        0 | 1 => (Some(&table), None),
         2 => (None, Some(0.5)),
         _ => (None, None),
     };
