@@ -207,26 +207,35 @@ fn knuth_all(
     leaf: f64,
     weight: &dyn Fn(u32) -> f64,
 ) -> Result<Optimum> {
+    const OPEN: u8 = 0;
+    const DONE: u8 = 1;
+    // A leaf not yet final, or an object whose cost no unit sets (a bare output).
+    const FIXED: u8 = 2;
     let foon = ctx.foon;
     let n = foon.object_count();
     let mut cost = vec![f64::INFINITY; n];
     let mut choice = vec![NONE; n];
-    let mut done = vec![false; n];
-    let mut left: Vec<u32> = (0..foon.fu_count() as u32)
-        .map(|f| ctx.needed(f).len() as u32)
-        .collect();
-    let mut entries = Vec::new();
+    let mut state = vec![OPEN; n];
+    // The leaves, final in id order at their fixed cost: a sorted run merged with the heap
+    // (the same pops as with them in the heap, without their heap entries).
+    let mut leaves = Vec::new();
     for o in 0..n as u32 {
         if is_leaf(o) {
             cost[o as usize] = leaf;
-            entries.push(Entry { cost: leaf, obj: o });
+            state[o as usize] = FIXED;
+            leaves.push(o);
+        } else if foon.is_bare(o) {
+            state[o as usize] = FIXED;
         }
     }
-    let mut heap = BinaryHeap::from(entries);
+    let mut left: Vec<u32> = (0..foon.fu_count() as u32)
+        .map(|f| ctx.needed(f).len() as u32)
+        .collect();
+    let mut heap = BinaryHeap::new();
     let fire = |f: u32,
                 cost: &mut [f64],
                 choice: &mut [u32],
-                done: &[bool],
+                state: &[u8],
                 heap: &mut BinaryHeap<Entry>| {
         let mut c = weight(f);
         for &x in ctx.needed(f) {
@@ -234,7 +243,7 @@ fn knuth_all(
         }
         for &y in foon.outputs(f) {
             let yi = y as usize;
-            if done[yi] || is_leaf(y) || foon.is_bare(y) {
+            if state[yi] != OPEN {
                 continue;
             }
             let (old_cost, old_choice) = (cost[yi], choice[yi]);
@@ -252,15 +261,32 @@ fn knuth_all(
     };
     for f in 0..foon.fu_count() as u32 {
         if left[f as usize] == 0 {
-            fire(f, &mut cost, &mut choice, &done, &mut heap);
+            fire(f, &mut cost, &mut choice, &state, &mut heap);
         }
     }
+    let mut next_leaf = 0;
     let mut finalised = 0u64;
-    while let Some(Entry { cost: c, obj: o }) = heap.pop() {
-        if done[o as usize] || c > cost[o as usize] {
-            continue;
-        }
-        done[o as usize] = true;
+    loop {
+        let from_leaves = match (heap.peek(), leaves.get(next_leaf)) {
+            (None, None) => break,
+            (None, Some(_)) => true,
+            (Some(_), None) => false,
+            // `Entry` orders the heap's top as the greatest.
+            (Some(top), Some(&l)) => Entry { cost: leaf, obj: l } > *top,
+        };
+        let o = if from_leaves {
+            next_leaf += 1;
+            leaves[next_leaf - 1]
+        } else {
+            let Some(Entry { cost: c, obj: o }) = heap.pop() else {
+                break;
+            };
+            if state[o as usize] == DONE || c > cost[o as usize] {
+                continue;
+            }
+            o
+        };
+        state[o as usize] = DONE;
         finalised += 1;
         if finalised % 4096 == 0 {
             ctx.check_stop()?;
@@ -269,12 +295,12 @@ fn knuth_all(
             let l = &mut left[f as usize];
             *l -= 1;
             if *l == 0 {
-                fire(f, &mut cost, &mut choice, &done, &mut heap);
+                fire(f, &mut cost, &mut choice, &state, &mut heap);
             }
         }
     }
-    for (o, &d) in done.iter().enumerate() {
-        if !d {
+    for (o, &s) in state.iter().enumerate() {
+        if s != DONE {
             cost[o] = f64::INFINITY;
             choice[o] = NONE;
         }
