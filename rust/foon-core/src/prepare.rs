@@ -3,7 +3,7 @@
 //! every FU, and derivability from the kitchen ([`Ranks`], computed once, by the forward
 //! chaining of `forward.rs`), and what the sound searches compute once per kitchen, on first
 //! use: each optimal objective's costs and choices over the whole FOON, the cheapest shopping
-//! costs of failure explanations, the choice of `ids` ([`Optimum`]).
+//! costs of failure explanations, the choice of `ids`.
 
 use std::sync::OnceLock;
 
@@ -19,7 +19,9 @@ use crate::model::{MotionRates, ObjectSpec, check_rate};
 /// Planning inputs prepared for one FOON: the kitchen matched to objects, the container rule
 /// applied (needed inputs), the motion rate of every FU. It owns its data, so it can be kept
 /// and reused for any number of plans ([`Context::with`](crate::search::Context::with)); it
-/// is `Send + Sync`.
+/// is `Send + Sync`. What depends on the kitchen only (ranks; each optimal objective's costs
+/// and choices; the shopping costs of explanations; the choices of `ids`) is computed on first
+/// use, once, in one pass over the FOON, and kept for every later plan of any thread.
 pub struct Prepared {
     objects: usize,
     fus: usize,
