@@ -109,11 +109,6 @@ impl<'a> Context<'a> {
         scratch::IdMap::new(len, default, self.scratch_limit)
     }
 
-    /// A per-search set over `len` ids (objects or FUs), empty.
-    pub(super) fn marks(&self, len: usize) -> scratch::Marks {
-        scratch::Marks::new(len, self.scratch_limit)
-    }
-
     /// Success rate of `fu`'s motion, or the error naming the motion.
     pub fn rate(&self, fu: u32) -> Result<f64> {
         self.prep().rate(self.foon, fu)

@@ -10,9 +10,9 @@ use crate::error::Result;
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let foon = ctx.foon;
     let mut queue = VecDeque::from([goal]);
-    let mut in_queue = ctx.marks(foon.object_count());
-    let mut visited = ctx.marks(foon.object_count());
-    let mut in_tree = ctx.marks(foon.fu_count());
+    let mut in_queue = ctx.id_map(foon.object_count(), false);
+    let mut visited = ctx.id_map(foon.object_count(), false);
+    let mut in_tree = ctx.id_map(foon.fu_count(), false);
     in_queue.set(goal, true);
     let mut tree = Vec::new();
     let mut unresolved = Vec::new();

@@ -9,14 +9,6 @@
 //! speed; the switch costs at most sixteen times the work already done). A plan's cost thus
 //! follows the tree it explores.
 
-//!
-//! [`Marks`] is a set of ids for the searches that only mark ids (the course loop, the
-//! extraction of a tree): beyond [`DENSE_MAX`] ids it is an array of stamps taken from a small
-//! per-thread pool and handed back when the search ends, so that a plan neither creates an
-//! array the size of the FOON nor hashes: starting a new set is a stamp increment.
-
-use std::cell::RefCell;
-
 use rustc_hash::FxHashMap;
 
 /// Id spaces up to this many entries use an array (creating it is a short `memset`); larger
@@ -88,114 +80,9 @@ impl<T: Copy + PartialEq> IdMap<T> {
     }
 }
 
-/// Stamp arrays kept per thread for [`Marks`] (the most recently returned first).
-const POOL_SIZE: usize = 8;
-
-thread_local! {
-    /// (stamps, last stamp used) of the arrays not in use.
-    static POOL: RefCell<Vec<(Vec<u32>, u32)>> = const { RefCell::new(Vec::new()) };
-}
-
-/// A set of ids in `0..len`: a plain [`IdMap`] up to `dense_max` ids, else an array of stamps
-/// (an id is in the set when its stamp is the set's) reused from the thread's pool.
-pub(crate) enum Marks {
-    Map(IdMap<bool>),
-    Stamped { stamps: Vec<u32>, cur: u32 },
-}
-
-impl Marks {
-    pub(crate) fn new(len: usize, dense_max: usize) -> Self {
-        if len <= dense_max {
-            return Self::Map(IdMap::new(len, false, dense_max));
-        }
-        let reused = POOL
-            .try_with(|p| {
-                let mut p = p.borrow_mut();
-                let i = p.iter().position(|(v, _)| v.len() == len)?;
-                Some(p.swap_remove(i))
-            })
-            .ok()
-            .flatten();
-        let (mut stamps, last) = reused.unwrap_or_else(|| (vec![0; len], 0));
-        let cur = if last == u32::MAX {
-            stamps.fill(0);
-            1
-        } else {
-            last + 1
-        };
-        Self::Stamped { stamps, cur }
-    }
-
-    #[inline]
-    pub(crate) fn get(&self, id: u32) -> bool {
-        match self {
-            Self::Map(m) => m.get(id),
-            Self::Stamped { stamps, cur } => stamps[id as usize] == *cur,
-        }
-    }
-
-    /// Sets whether `id` is in the set and returns whether it was.
-    #[inline]
-    pub(crate) fn replace(&mut self, id: u32, value: bool) -> bool {
-        match self {
-            Self::Map(m) => m.replace(id, value),
-            Self::Stamped { stamps, cur } => {
-                let s = &mut stamps[id as usize];
-                let old = *s == *cur;
-                // 0 is never a set's stamp.
-                *s = if value { *cur } else { 0 };
-                old
-            }
-        }
-    }
-
-    #[inline]
-    pub(crate) fn set(&mut self, id: u32, value: bool) {
-        self.replace(id, value);
-    }
-}
-
-impl Drop for Marks {
-    fn drop(&mut self) {
-        if let Self::Stamped { stamps, cur } = self {
-            let v = std::mem::take(stamps);
-            let cur = *cur;
-            let _ = POOL.try_with(|p| {
-                let mut p = p.borrow_mut();
-                if p.len() >= POOL_SIZE {
-                    p.remove(0);
-                }
-                p.push((v, cur));
-            });
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{IdMap, Marks};
-
-    /// Stamped sets start empty, whatever an earlier set of the same size (from the pool)
-    /// held, and agree with a plain map.
-    #[test]
-    fn stamped_marks_start_empty_and_agree_with_a_map() {
-        for round in 0..5u32 {
-            let mut a = Marks::new(1000, 10);
-            let mut b = Marks::new(1000, 1000);
-            assert!(matches!(a, Marks::Stamped { .. }));
-            assert!(matches!(b, Marks::Map(_)));
-            for i in 0..1000 {
-                assert!(!a.get(i), "{round} {i}");
-            }
-            for i in (round..1000).step_by(7) {
-                assert_eq!(a.replace(i, true), b.replace(i, true));
-                assert_eq!(a.replace(i, i % 2 == 0), b.replace(i, i % 2 == 0));
-            }
-            for i in 0..1000 {
-                assert_eq!(a.get(i), b.get(i));
-            }
-        }
-    }
+    use super::IdMap;
 
     #[test]
     fn dense_and_sparse_agree() {

@@ -2,7 +2,7 @@
 //! post-order from the goal, needed inputs in input order; no call-stack recursion).
 
 use super::Context;
-use super::scratch::Marks;
+use super::scratch::IdMap;
 use crate::index::NONE;
 
 /// The tree of the choices from `goal` (`choice(o)` is the FU chosen for `o`, or `NONE`).
@@ -23,24 +23,25 @@ pub(super) struct Emitted {
 /// a plan read from choices computed beforehand).
 pub(super) fn emit_counted(ctx: &Context<'_>, goal: u32, choice: impl Fn(u32) -> u32) -> Emitted {
     let foon = ctx.foon;
-    let mut seen = ctx.marks(foon.object_count());
-    let mut emitted = ctx.marks(foon.fu_count());
+    let mut seen = ctx.id_map(foon.object_count(), false);
+    let mut emitted = ctx.id_map(foon.fu_count(), false);
     let mut out = Vec::new();
     let mut visited = 0u64;
     let mut peak = 0usize;
     // (fu, next input position)
     let mut stack: Vec<(u32, usize)> = Vec::new();
-    let mut visit = |o: u32, stack: &mut Vec<(u32, usize)>, seen: &mut Marks, emitted: &Marks| {
-        if ctx.in_kitchen(o) || seen.replace(o, true) {
-            return;
-        }
-        visited += 1;
-        let f = choice(o);
-        if f != NONE && !emitted.get(f) {
-            stack.push((f, 0));
-            peak = peak.max(stack.len());
-        }
-    };
+    let mut visit =
+        |o: u32, stack: &mut Vec<(u32, usize)>, seen: &mut IdMap<bool>, emitted: &IdMap<bool>| {
+            if ctx.in_kitchen(o) || seen.replace(o, true) {
+                return;
+            }
+            visited += 1;
+            let f = choice(o);
+            if f != NONE && !emitted.get(f) {
+                stack.push((f, 0));
+                peak = peak.max(stack.len());
+            }
+        };
     visit(goal, &mut stack, &mut seen, &emitted);
     while let Some(&mut (f, ref mut i)) = stack.last_mut() {
         let ins = ctx.needed(f);
