@@ -1,7 +1,9 @@
 //! Preparing the planning inputs of one FOON, the stage below every search, check and lint:
 //! the kitchen matched to objects, the container rule (needed inputs), the motion rate of
 //! every FU, and derivability from the kitchen ([`Ranks`], computed once, by the forward
-//! chaining of `forward.rs`).
+//! chaining of `forward.rs`), and what the sound searches compute once per kitchen, on first
+//! use: each optimal objective's costs and choices over the whole FOON, the cheapest shopping
+//! costs of failure explanations, the choice of `ids`.
 
 use std::sync::OnceLock;
 
@@ -17,7 +19,9 @@ use crate::model::{MotionRates, ObjectSpec, check_rate};
 /// Planning inputs prepared for one FOON: the kitchen matched to objects, the container rule
 /// applied (needed inputs), the motion rate of every FU. It owns its data, so it can be kept
 /// and reused for any number of plans ([`Context::with`](crate::search::Context::with)); it
-/// is `Send + Sync`.
+/// is `Send + Sync`. What depends on the kitchen only (ranks; each optimal objective's costs
+/// and choices; the shopping costs of explanations; the choices of `ids`) is computed on first
+/// use, once, in one pass over the FOON, and kept for every later plan of any thread.
 pub struct Prepared {
     objects: usize,
     fus: usize,
@@ -29,7 +33,49 @@ pub struct Prepared {
     needed_by: Csr,
     fu_rate: Vec<f64>,
     rates_given: bool,
+    /// Whether every FU's motion has a rate.
+    all_rated: bool,
     ranks: OnceLock<Ranks>,
+    /// Per [`Objective`]: final costs and choices from the kitchen over the whole FOON.
+    optima: [OnceLock<Optimum>; Objective::COUNT],
+    /// `ids`: the first producer of each object that achieves its rank (`NONE` when none).
+    ids_choice: OnceLock<Vec<u32>>,
+}
+
+/// An objective computed once per kitchen over the whole FOON by Knuth's algorithm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Objective {
+    /// `optimal-success`: leaves 0, an FU weighs `-ln rate`.
+    Success,
+    /// `optimal-units`: leaves 0, an FU weighs 1.
+    Units,
+    /// `optimal-inputs`: leaves 1, an FU weighs 0.
+    Inputs,
+    /// Failure explanations: leaves are the kitchen and the raw items (K'), 1 each; an FU
+    /// weighs 0.
+    Shopping,
+}
+
+impl Objective {
+    const COUNT: usize = 4;
+}
+
+/// Final cost and choice of every object for one [`Objective`] (`f64::INFINITY` and `NONE`
+/// for an object that is not finalised).
+pub(crate) struct Optimum {
+    pub(crate) cost: Vec<f64>,
+    pub(crate) choice: Vec<u32>,
+}
+
+/// The value in `cell`, computing it with `init` when it is not there yet. An error (a
+/// cancelled computation) is returned and nothing is kept, so a later call computes again;
+/// two threads may compute the same value at once, and the first one stored is kept.
+fn once<T>(cell: &OnceLock<T>, init: impl FnOnce() -> Result<T>) -> Result<&T> {
+    if let Some(v) = cell.get() {
+        return Ok(v);
+    }
+    let v = init()?;
+    Ok(cell.get_or_init(|| v))
 }
 
 impl Prepared {
@@ -88,7 +134,7 @@ impl Prepared {
             n,
             (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
         );
-        let fu_rate = (0..n_fu)
+        let fu_rate: Vec<f64> = (0..n_fu)
             .map(|f| {
                 rates
                     .and_then(|r| r.get(foon.motion_text(f)))
@@ -96,6 +142,7 @@ impl Prepared {
                     .unwrap_or(f64::NAN)
             })
             .collect();
+        let all_rated = fu_rate.iter().all(|r| !r.is_nan());
         Ok(Self {
             objects: n,
             fus: n_fu as usize,
@@ -105,7 +152,10 @@ impl Prepared {
             needed_by,
             fu_rate,
             rates_given: rates.is_some() || default_rate.is_some(),
+            all_rated,
             ranks: OnceLock::new(),
+            optima: Default::default(),
+            ids_choice: OnceLock::new(),
         })
     }
 
@@ -173,6 +223,25 @@ impl Prepared {
     /// FOON these inputs were prepared for).
     pub(crate) fn ranks(&self, foon: &Foon) -> &Ranks {
         self.ranks.get_or_init(|| forward::ranks(foon, self, None))
+    }
+
+    /// Whether every FU's motion has a rate (from the table or the default rate).
+    pub(crate) fn all_rated(&self) -> bool {
+        self.all_rated
+    }
+
+    /// The optimum of `objective`, computed by `init` on first use (see [`once`]).
+    pub(crate) fn optimum(
+        &self,
+        objective: Objective,
+        init: impl FnOnce() -> Result<Optimum>,
+    ) -> Result<&Optimum> {
+        once(&self.optima[objective as usize], init)
+    }
+
+    /// The choice of `ids` for every object, computed by `init` on first use.
+    pub(crate) fn ids_choice(&self, init: impl FnOnce() -> Result<Vec<u32>>) -> Result<&[u32]> {
+        once(&self.ids_choice, init).map(Vec::as_slice)
     }
 
     /// Ranks from the kitchen plus the objects marked in `extra`.

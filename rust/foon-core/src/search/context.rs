@@ -22,6 +22,8 @@ pub struct Context<'a> {
     cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
     /// Searches keep per-object state in arrays up to this many ids, in hash maps beyond.
     scratch_limit: usize,
+    /// Plan every goal from scratch, without what is computed once per kitchen.
+    from_scratch: bool,
 }
 
 impl std::ops::Deref for Context<'_> {
@@ -53,6 +55,7 @@ impl<'a> Context<'a> {
             prep: Prep::Owned(Box::new(p)),
             cancel: None,
             scratch_limit: scratch::DENSE_MAX,
+            from_scratch: false,
         })
     }
 
@@ -64,6 +67,7 @@ impl<'a> Context<'a> {
             prep: Prep::Borrowed(prep),
             cancel: None,
             scratch_limit: scratch::DENSE_MAX,
+            from_scratch: false,
         })
     }
 
@@ -83,6 +87,21 @@ impl<'a> Context<'a> {
     pub fn with_scratch_limit(mut self, ids: usize) -> Self {
         self.scratch_limit = ids;
         self
+    }
+
+    /// Makes every plan search from its goal, without what the sound methods compute once
+    /// per kitchen (each objective's optimum, the shopping costs of explanations, the choices
+    /// of `ids`). Results never depend on it; tests use it to compare both paths.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn from_scratch(mut self) -> Self {
+        self.from_scratch = true;
+        self
+    }
+
+    /// Whether plans search from their goal (see [`Context::from_scratch`]).
+    pub(super) fn is_from_scratch(&self) -> bool {
+        self.from_scratch
     }
 
     /// Per-search state over `len` ids (objects or FUs), all at `default`.

@@ -2,6 +2,14 @@
 //! found. The depth-limited search is memoised over the index (exact ranks once known, and the
 //! largest limit each object failed at), which makes the whole deepening linear in practice,
 //! and it keeps its own stack, so a chain a million steps deep needs no call stack.
+//!
+//! Its result depends on the kitchen only: the rank of every object it finds is the forward
+//! rank, and the producer it keeps for an object is the first (in producer order) whose value
+//! (one more than the largest rank of its needed inputs, all derivable) is the object's rank,
+//! since a frame keeps a producer only when it is strictly better than the one before. So
+//! that choice is computed once per kitchen over the whole FOON ([`choices`], linear in the
+//! needed and producer slots), and a plan reads its tree from it; the deepening itself
+//! ([`plan`] with [`Context::from_scratch`]) is the definition.
 
 use super::scratch::IdMap;
 use super::{Context, Plan, Query, tree};
@@ -150,7 +158,58 @@ fn dls(
     Ok(result)
 }
 
+/// The choice of `ids` for every object: the first producer whose value is the object's rank
+/// (`NONE` for kitchen objects and objects that are not derivable).
+fn choices(ctx: &Context<'_>) -> Result<Vec<u32>> {
+    let foon = ctx.foon;
+    let ranks = ctx.ranks().as_slice();
+    let rank = |x: u32| {
+        if ctx.in_kitchen(x) {
+            0
+        } else {
+            ranks[x as usize]
+        }
+    };
+    let value: Vec<u32> = (0..foon.fu_count() as u32)
+        .map(|f| {
+            let mut m = 0;
+            for &x in ctx.needed(f) {
+                let r = rank(x);
+                if r == NONE {
+                    return NONE;
+                }
+                m = m.max(r);
+            }
+            m + 1
+        })
+        .collect();
+    let mut out = vec![NONE; foon.object_count()];
+    for (o, slot) in (0..).zip(out.iter_mut()) {
+        if o % 65_536 == 0 {
+            ctx.check_stop()?;
+        }
+        let r = ranks[o as usize];
+        if r == NONE || ctx.in_kitchen(o) {
+            continue;
+        }
+        if let Some(&f) = foon.producers(o).iter().find(|&&f| value[f as usize] == r) {
+            *slot = f;
+        }
+    }
+    Ok(out)
+}
+
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
+    if !ctx.is_from_scratch() {
+        let choice = ctx.ids_choice(|| choices(ctx))?;
+        let e = tree::emit_counted(ctx, goal, |o| choice[o as usize]);
+        return Ok(Plan {
+            units: e.units,
+            expanded: e.visited,
+            peak_frontier: e.peak,
+            ..Plan::empty(goal, query)
+        });
+    }
     let n = ctx.foon.object_count();
     let mut memo = Memo {
         rank: ctx.id_map(n, NONE),

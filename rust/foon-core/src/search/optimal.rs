@@ -1,5 +1,14 @@
 //! Optimal trees (Knuth's generalisation of Dijkstra over the AND-OR graph, tree cost) and
 //! the explanation of failed searches.
+//!
+//! Costs and choices depend on the kitchen only, not on the goal, so they are computed once
+//! per kitchen and objective over the whole FOON ([`knuth_all`], kept in the
+//! [`Prepared`](crate::prepare::Prepared) inputs), and a plan reads its tree from them. This
+//! gives the trees of the search from the goal ([`knuth`], still used when some motion has no
+//! rate, and by [`Context::from_scratch`]): the units that can set the cost or the choice of
+//! an object of the goal's ancestry are those producing it, whose needed inputs are in the
+//! ancestry, so the heap entries of the ancestry are pushed and popped in the same order
+//! whatever else the heap holds, and every object of a tree is final before the goal is.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -8,6 +17,7 @@ use super::scratch::IdMap;
 use super::{Context, Explanation, Method, Plan, Query, tree};
 use crate::error::Result;
 use crate::index::NONE;
+use crate::prepare::{Objective, Optimum};
 
 #[derive(PartialEq)]
 struct Entry {
@@ -188,17 +198,185 @@ pub(super) fn knuth(
     })
 }
 
-pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
-    let (leaf, weight): (f64, Box<dyn Fn(u32) -> Result<f64>>) = match query.method {
-        // `0.0 - ln r`, not `-ln r`: a rate of 1 must weigh +0, as the leaves do. A -0 would
-        // sort before every +0 in the heap's total order and finalise such objects out of
-        // (cost, id) order.
-        Method::OptimalSuccess => (0.0, Box::new(|f| ctx.rate(f).map(|r| 0.0 - r.ln()))),
-        Method::OptimalUnits => (0.0, Box::new(|_| Ok(1.0))),
-        _ => (1.0, Box::new(|_| Ok(0.0))),
+/// Knuth's algorithm from the kitchen over the whole FOON, to the end: leaves (`is_leaf`)
+/// cost `leaf`, an FU weighs `weight`; the same rules as [`knuth`], in time near-linear in the
+/// FOON (one heap entry per improvement of an object's cost).
+fn knuth_all(
+    ctx: &Context<'_>,
+    is_leaf: &dyn Fn(u32) -> bool,
+    leaf: f64,
+    weight: &dyn Fn(u32) -> f64,
+) -> Result<Optimum> {
+    const OPEN: u8 = 0;
+    const DONE: u8 = 1;
+    // A leaf not yet final, or an object whose cost no unit sets (a bare output).
+    const FIXED: u8 = 2;
+    let foon = ctx.foon;
+    let n = foon.object_count();
+    let mut cost = vec![f64::INFINITY; n];
+    let mut choice = vec![NONE; n];
+    let mut state = vec![OPEN; n];
+    // The leaves, final in id order at their fixed cost: a sorted run merged with the heap
+    // (the same pops as with them in the heap, without their heap entries).
+    let mut leaves = Vec::new();
+    for o in 0..n as u32 {
+        if is_leaf(o) {
+            cost[o as usize] = leaf;
+            state[o as usize] = FIXED;
+            leaves.push(o);
+        } else if foon.is_bare(o) {
+            state[o as usize] = FIXED;
+        }
+    }
+    let mut left: Vec<u32> = (0..foon.fu_count() as u32)
+        .map(|f| ctx.needed(f).len() as u32)
+        .collect();
+    let mut heap = BinaryHeap::new();
+    let fire = |f: u32,
+                cost: &mut [f64],
+                choice: &mut [u32],
+                state: &[u8],
+                heap: &mut BinaryHeap<Entry>| {
+        let mut c = weight(f);
+        for &x in ctx.needed(f) {
+            c += cost[x as usize];
+        }
+        for &y in foon.outputs(f) {
+            let yi = y as usize;
+            if state[yi] != OPEN {
+                continue;
+            }
+            let (old_cost, old_choice) = (cost[yi], choice[yi]);
+            // Equal costs are compared exactly on purpose: the tie goes to the lower index.
+            #[allow(clippy::float_cmp)]
+            let better = c < old_cost || (c == old_cost && f < old_choice);
+            if better {
+                if c < old_cost {
+                    heap.push(Entry { cost: c, obj: y });
+                }
+                cost[yi] = c;
+                choice[yi] = f;
+            }
+        }
     };
-    let k = knuth(ctx, goal, &|o| ctx.in_kitchen(o), leaf, &weight)?;
-    let c = k.cost.get(goal);
+    for f in 0..foon.fu_count() as u32 {
+        if left[f as usize] == 0 {
+            fire(f, &mut cost, &mut choice, &state, &mut heap);
+        }
+    }
+    let mut next_leaf = 0;
+    let mut finalised = 0u64;
+    loop {
+        let from_leaves = match (heap.peek(), leaves.get(next_leaf)) {
+            (None, None) => break,
+            (None, Some(_)) => true,
+            (Some(_), None) => false,
+            // `Entry` orders the heap's top as the greatest.
+            (Some(top), Some(&l)) => Entry { cost: leaf, obj: l } > *top,
+        };
+        let o = if from_leaves {
+            next_leaf += 1;
+            leaves[next_leaf - 1]
+        } else {
+            let Some(Entry { cost: c, obj: o }) = heap.pop() else {
+                break;
+            };
+            if state[o as usize] == DONE || c > cost[o as usize] {
+                continue;
+            }
+            o
+        };
+        state[o as usize] = DONE;
+        finalised += 1;
+        if finalised % 4096 == 0 {
+            ctx.check_stop()?;
+        }
+        for &f in ctx.needed_by(o) {
+            let l = &mut left[f as usize];
+            *l -= 1;
+            if *l == 0 {
+                fire(f, &mut cost, &mut choice, &state, &mut heap);
+            }
+        }
+    }
+    for (o, &s) in state.iter().enumerate() {
+        if s != DONE {
+            cost[o] = f64::INFINITY;
+            choice[o] = NONE;
+        }
+    }
+    Ok(Optimum { cost, choice })
+}
+
+/// The optimum of `objective` for the context's kitchen (computed on first use).
+fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
+    ctx.optimum(objective, || {
+        let kitchen = |o: u32| ctx.in_kitchen(o);
+        let zero = |_: u32| 0.0;
+        match objective {
+            // `0.0 - ln r`: see `plan`. Every FU has a rate here (the caller checked).
+            Objective::Success => {
+                let rates = ctx.fu_rates();
+                knuth_all(ctx, &kitchen, 0.0, &|f| 0.0 - rates[f as usize].ln())
+            }
+            Objective::Units => knuth_all(ctx, &kitchen, 0.0, &|_| 1.0),
+            Objective::Inputs => knuth_all(ctx, &kitchen, 1.0, &zero),
+            Objective::Shopping => knuth_all(
+                ctx,
+                &|o| ctx.in_kitchen(o) || ctx.foon.producers(o).is_empty(),
+                1.0,
+                &zero,
+            ),
+        }
+    })
+}
+
+/// Final cost and choice of every object needed for `goal`: read from the kitchen's optimum,
+/// or searched from the goal.
+enum Costs<'c> {
+    Shared(&'c Optimum),
+    Own(Knuth),
+}
+
+impl Costs<'_> {
+    fn cost(&self, o: u32) -> f64 {
+        match self {
+            Self::Shared(k) => k.cost[o as usize],
+            Self::Own(k) => k.cost.get(o),
+        }
+    }
+
+    fn choice(&self, o: u32) -> u32 {
+        match self {
+            Self::Shared(k) => k.choice[o as usize],
+            Self::Own(k) => k.choice.get(o),
+        }
+    }
+}
+
+pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
+    let objective = match query.method {
+        Method::OptimalSuccess => Objective::Success,
+        Method::OptimalUnits => Objective::Units,
+        _ => Objective::Inputs,
+    };
+    // Without a rate for every motion, which FUs are weighed (and so which missing rate is
+    // the error) depends on the goal: search from it.
+    let shared = !ctx.is_from_scratch() && (objective != Objective::Success || ctx.all_rated());
+    let k = if shared {
+        Costs::Shared(optimum(ctx, objective)?)
+    } else {
+        let (leaf, weight): (f64, Box<dyn Fn(u32) -> Result<f64>>) = match query.method {
+            // `0.0 - ln r`, not `-ln r`: a rate of 1 must weigh +0, as the leaves do. A -0
+            // would sort before every +0 in the heap's total order and finalise such objects
+            // out of (cost, id) order.
+            Method::OptimalSuccess => (0.0, Box::new(|f| ctx.rate(f).map(|r| 0.0 - r.ln()))),
+            Method::OptimalUnits => (0.0, Box::new(|_| Ok(1.0))),
+            _ => (1.0, Box::new(|_| Ok(0.0))),
+        };
+        Costs::Own(knuth(ctx, goal, &|o| ctx.in_kitchen(o), leaf, &weight)?)
+    };
+    let c = k.cost(goal);
     if !c.is_finite() {
         // Derivable, but every way to make it uses a motion of rate 0: nothing is missing and
         // no cycle blocks it, so the explanation is empty (the rates are the reason).
@@ -207,17 +385,21 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         p.explanation = Some(Explanation::default());
         return Ok(p);
     }
-    let units = tree::emit(ctx, goal, |o| k.choice.get(o));
+    let e = tree::emit_counted(ctx, goal, |o| k.choice(o));
+    let (expanded, peak) = match &k {
+        Costs::Shared(_) => (e.visited, e.peak),
+        Costs::Own(k) => (k.expanded, k.peak),
+    };
     let cost = if query.method == Method::OptimalSuccess {
         (-c).exp()
     } else {
         c
     };
     Ok(Plan {
-        units,
+        units: e.units,
         cost: Some(cost),
-        expanded: k.expanded,
-        peak_frontier: k.peak,
+        expanded,
+        peak_frontier: peak,
         ..Plan::empty(goal, query)
     })
 }
@@ -227,11 +409,19 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
 pub(super) fn explain(ctx: &Context<'_>, goal: u32) -> Result<Explanation> {
     let foon = ctx.foon;
     let raw = |o: u32| foon.producers(o).is_empty();
-    let k = knuth(ctx, goal, &|o| ctx.in_kitchen(o) || raw(o), 1.0, &|_| {
-        Ok(0.0)
-    })?;
-    if k.cost.get(goal).is_finite() {
-        let units = tree::emit(ctx, goal, |o| k.choice.get(o));
+    let k = if ctx.is_from_scratch() {
+        Costs::Own(knuth(
+            ctx,
+            goal,
+            &|o| ctx.in_kitchen(o) || raw(o),
+            1.0,
+            &|_| Ok(0.0),
+        )?)
+    } else {
+        Costs::Shared(optimum(ctx, Objective::Shopping)?)
+    };
+    if k.cost(goal).is_finite() {
+        let units = tree::emit(ctx, goal, |o| k.choice(o));
         let mut missing: Vec<u32> = units
             .iter()
             .flat_map(|&f| ctx.needed(f).iter().copied())
@@ -250,7 +440,7 @@ pub(super) fn explain(ctx: &Context<'_>, goal: u32) -> Result<Explanation> {
     // Blocked by cycles only. The goal was never reached, so Knuth ran to the end: an object
     // of the goal's ancestry is derivable from K' exactly when its cost is finite. Follow
     // first producers through inputs that are not.
-    let derivable = |x: u32| k.cost.get(x).is_finite();
+    let derivable = |x: u32| k.cost(x).is_finite();
     let mut cycle = vec![goal];
     let mut cycle_units = Vec::new();
     let mut pos = ctx.id_map(foon.object_count(), NONE);
