@@ -14,6 +14,7 @@ pub mod evaluate;
 mod forward;
 pub mod index;
 pub mod lint;
+pub mod merge;
 pub mod model;
 pub mod parse;
 pub mod prepare;

@@ -10,6 +10,7 @@ mod errors;
 mod foon;
 mod json;
 mod loaders;
+mod merge;
 mod plan;
 mod planner;
 mod serial;
@@ -21,6 +22,11 @@ mod _foon {
     use super::foon::PyFoon;
     #[pymodule_export]
     use super::json::{check_json, objects_json, stats_json, verify_json};
+    #[pymodule_export]
+    use super::merge::{
+        fu_sources, fu_support, load_merged, merge_paths, merge_texts, merged_text, parse_merged,
+        provenance_text,
+    };
     #[pymodule_export]
     use super::plan::PyPlan;
     #[pymodule_export]
