@@ -10,6 +10,8 @@ from foon import _foon
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from foon import Foon, PathLike
 
 
@@ -114,7 +116,7 @@ def merge(
 
 
 def merge_texts(
-    sources: list[tuple[str, str | bytes]],
+    sources: Sequence[tuple[str, str | bytes]],
     *,
     level: int = 3,
     min_support: int = 1,
