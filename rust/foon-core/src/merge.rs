@@ -1,11 +1,13 @@
 //! Merging many FOONs into one, with provenance and support.
 //!
-//! [`merge`] reads its sources in the order given (any mix of dialects: FOON text and the
-//! lab's JSON), builds one index of them and drops the functional units (FUs) that repeat an
-//! earlier one at the chosen identity level. A kept FU is the first copy met; it records every
-//! (source, line) it was found at, in reading order, and its *support*, the number of distinct
-//! sources that contain it. With a minimum support K, only the FUs found in at least K sources
-//! are kept (and the objects that no kept FU uses are gone).
+//! [`merge_files`] (and [`merge_sources`], for text in memory) reads its sources in the order
+//! given (any mix of dialects: FOON text and the lab's JSON), builds one index of them and
+//! drops the functional units (FUs) that repeat an earlier one at the chosen identity level.
+//! A kept FU is the first copy met; it records every (source, line) it was found at, in
+//! reading order, and its *support*, the number of distinct sources that contain it. With a
+//! minimum support K, only the FUs found in at least K sources are kept (and the objects that
+//! no kept FU uses are gone). A folder stands for its `.txt` and `.json` files (not those of
+//! its subfolders), sorted by name ([`expand_paths`]).
 //!
 //! # Identity levels
 //!
@@ -731,4 +733,129 @@ impl Merged {
 pub fn load_merged(path: &Path, opts: ParseOptions) -> Result<Foon> {
     let data = crate::parse::read_file(path)?;
     parse_merged(&data, Some(path), opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::{MergeOptions, merge_sources, merged_text, parse_merged, sources_of};
+    use crate::parse::ParseOptions;
+
+    const EGG: &str = "O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n";
+    /// EGG with a bowl holding the egg (ingredients), then with a different ingredient list.
+    const EGG_IN_BOWL: &str = "O\tbowl\nS\tcontains\t{egg}\nM\tcrack\nO\tbowl\nS\tfull\n//\n";
+    const EGG_IN_BOWL2: &str = "O\tbowl\nS\tcontains\t{egg,salt}\nM\tcrack\nO\tbowl\nS\tfull\n//\n";
+    const EGG_HOT: &str = "O\tegg\nS\thot\nM\tcrack\nO\tegg\nS\tcracked\n//\n";
+
+    fn opts(level: u8, min_support: u32) -> MergeOptions {
+        MergeOptions {
+            level,
+            min_support,
+            strict: false,
+        }
+    }
+
+    fn run(sources: &[(&str, String)], o: MergeOptions) -> super::Merged {
+        let refs: Vec<(&Path, &[u8])> = sources
+            .iter()
+            .map(|(n, t)| (Path::new(*n), t.as_bytes()))
+            .collect();
+        merge_sources(&refs, o, &|| false).unwrap()
+    }
+
+    fn sources() -> Vec<(&'static str, String)> {
+        vec![
+            ("a.txt", format!("{EGG}{EGG_IN_BOWL}")),
+            ("b.txt", format!("{EGG_IN_BOWL2}{EGG}{EGG_HOT}")),
+            ("c.txt", EGG.to_owned()),
+        ]
+    }
+
+    #[test]
+    fn level_3_keeps_first_copies_with_every_origin() {
+        let m = run(&sources(), opts(3, 1));
+        let f = &m.foon;
+        assert_eq!(f.fu_count(), 4);
+        assert_eq!(sources_of(f, 0), [("a.txt", 1), ("b.txt", 7), ("c.txt", 1)]);
+        assert_eq!((f.support(0), f.support(1), f.support(2)), (3, 1, 1));
+        assert_eq!(m.report.units_read, 6);
+        assert_eq!((m.report.duplicates, m.report.same_at_level), (2, 0));
+    }
+
+    #[test]
+    fn level_2_ignores_ingredients_and_level_1_states() {
+        let m2 = run(&sources(), opts(2, 1));
+        assert_eq!(m2.foon.fu_count(), 3);
+        assert_eq!(sources_of(&m2.foon, 1), [("a.txt", 7), ("b.txt", 1)]);
+        assert_eq!(m2.report.same_at_level, 1);
+        let m1 = run(&sources(), opts(1, 1));
+        assert_eq!(m1.foon.fu_count(), 2);
+        assert_eq!(
+            sources_of(&m1.foon, 0),
+            [("a.txt", 1), ("b.txt", 7), ("b.txt", 13), ("c.txt", 1)]
+        );
+        // The kept unit is the first copy, in full.
+        let mut s = String::new();
+        crate::write::fu_text(&m1.foon, 1, &mut s);
+        assert!(s.contains("{egg}"), "{s}");
+    }
+
+    #[test]
+    fn min_support_drops_units_and_their_objects() {
+        let m = run(&sources(), opts(3, 2));
+        assert_eq!(m.foon.fu_count(), 1);
+        assert_eq!(m.report.below_support, 3);
+        assert_eq!(m.foon.object_count(), 2);
+        assert_eq!(m.foon.source_count(), 3);
+    }
+
+    #[test]
+    fn text_round_trip() {
+        let m = run(&sources(), opts(2, 1));
+        let text = merged_text(&m.foon, "test");
+        let back = parse_merged(
+            text.as_bytes(),
+            Some(Path::new("m.txt")),
+            ParseOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(back.fu_count(), m.foon.fu_count());
+        assert_eq!(back.source_count(), 3);
+        for f in 0..back.fu_count() as u32 {
+            assert_eq!(sources_of(&back, f), sources_of(&m.foon, f));
+        }
+        assert_eq!(merged_text(&back, "test"), text);
+    }
+
+    #[test]
+    fn bad_options_and_names() {
+        let none = &|| false;
+        for o in [opts(0, 1), opts(4, 1), opts(3, 0)] {
+            assert!(merge_sources(&[], o, none).is_err());
+        }
+        let a: &[u8] = EGG.as_bytes();
+        let err = merge_sources(
+            &[(Path::new("a"), a), (Path::new("a"), a)],
+            opts(3, 1),
+            none,
+        );
+        assert!(err.unwrap_err().to_string().contains("given twice"));
+        let bad: &[u8] = b"O\tegg\nX\tno\n";
+        let err = merge_sources(
+            &[(Path::new("a"), a), (Path::new("b"), bad)],
+            opts(3, 1),
+            none,
+        )
+        .unwrap_err();
+        assert!(err.to_string().starts_with("b:2:1:"), "{err}");
+    }
+
+    #[test]
+    fn escaped_paths() {
+        let mut s = String::new();
+        super::escape("a\\b\tc\nd\re:1", &mut s);
+        assert_eq!(s, "a\\\\b\\tc\\nd\\re:1");
+        assert_eq!(super::unescape(&s), "a\\b\tc\nd\re:1");
+    }
 }
