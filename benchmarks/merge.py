@@ -306,13 +306,12 @@ def main() -> int:
     lab_what = f"first {args.lab_files} files" if args.lab_files else "all files"
 
     print(f"Merge of {len(files)} subgraphs ({folder.name}), level 3, one run:\n")
-    print("| merge | seconds | units kept | × core |")
+    print("| merge | seconds | units kept | time / core |")
     print("|---|---:|---:|---:|")
     print(f"| foon.merge (Rust core) | {core:.4f} | {core_kept} | 1 |")
     print(f"| pure-Python merge, same semantics | {ref_t:.4f} | {ref_kept} | {ref_t / core:,.0f} |")
     print(
-        f"| port of the lab's merge ({lab_what}) | {lab_t:.2f} | {lab_kept} | "
-        f"{lab_t / core:,.0f} |"
+        f"| port of the lab's merge ({lab_what}) | {lab_t:.2f} | {lab_kept} | {lab_t / core:,.0f} |"
     )
     return 0
 
