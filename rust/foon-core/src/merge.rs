@@ -129,6 +129,8 @@ pub struct Merged {
     pub foon: Foon,
     pub report: MergeReport,
     pub options: MergeOptions,
+    /// The files read, in order (empty for sources given in memory).
+    pub inputs: Vec<PathBuf>,
 }
 
 /// Whether `path` names a FOON file a folder expands to (`.txt` or `.json`, any case).
@@ -150,7 +152,11 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
             for entry in std::fs::read_dir(p).map_err(|e| Error::io(p, e))? {
                 let entry = entry.map_err(|e| Error::io(p, e))?;
                 let path = entry.path();
-                if is_foon_file(&path) && path.is_file() {
+                if !is_foon_file(&path) {
+                    continue;
+                }
+                let kind = entry.file_type().map_err(|e| Error::io(&path, e))?;
+                if kind.is_file() || (kind.is_symlink() && path.is_file()) {
                     files.push(path);
                 }
             }
@@ -168,8 +174,7 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     }
     let mut seen = FxHashMap::default();
     for p in &out {
-        let key = std::fs::canonicalize(p).unwrap_or_else(|_| p.clone());
-        if let Some(first) = seen.insert(key, p) {
+        if let Some(first) = seen.insert(file_key(p)?, p) {
             return Err(Error::Invalid(format!(
                 "{} is given twice (as {} and {})",
                 p.display(),
@@ -179,6 +184,20 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
         }
     }
     Ok(out)
+}
+
+/// What tells files apart: device and inode where there are such, else the canonical path.
+#[cfg(unix)]
+fn file_key(p: &Path) -> Result<(u64, u64, PathBuf)> {
+    use std::os::unix::fs::MetadataExt;
+    let m = std::fs::metadata(p).map_err(|e| Error::io(p, e))?;
+    Ok((m.dev(), m.ino(), PathBuf::new()))
+}
+
+#[cfg(not(unix))]
+fn file_key(p: &Path) -> Result<(u64, u64, PathBuf)> {
+    let c = std::fs::canonicalize(p).map_err(|e| Error::io(p, e))?;
+    Ok((0, 0, c))
 }
 
 /// Merges the files and folders `paths` (see [`expand_paths`]); `cancel` is asked now and then
@@ -198,7 +217,9 @@ pub fn merge_files(
         let data = crate::parse::read_file(f)?;
         read_source(&mut b, &data, f, opts, cancel)?;
     }
-    Ok(finish(b, files.len(), opts))
+    let mut m = finish(b, files.len(), opts);
+    m.inputs = files;
+    Ok(m)
 }
 
 /// Merges sources given in memory as (name, bytes), in order; names must be distinct.
@@ -276,6 +297,7 @@ fn finish(b: Builder, sources: usize, opts: MergeOptions) -> Merged {
         foon,
         report,
         options: opts,
+        inputs: Vec::new(),
     }
 }
 
@@ -541,25 +563,25 @@ pub fn header_line(m: &Merged) -> String {
 /// Writes `text` to `out` atomically (a temporary file in the same folder, then a rename),
 /// refusing an output that is one of `inputs`.
 pub fn write_atomic(out: &Path, text: &[u8], inputs: &[PathBuf]) -> Result<()> {
-    if let Ok(target) = std::fs::canonicalize(out) {
-        let meta = std::fs::metadata(&target).map_err(|e| Error::io(out, e))?;
-        if !meta.is_file() && !meta.is_dir() {
-            // A device or a FIFO (`/dev/stdout`): written into; a rename would replace it.
-            return std::fs::write(out, text).map_err(|e| Error::io(out, e));
+    if let Ok(meta) = std::fs::metadata(out) {
+        if meta.is_dir() {
+            return Err(Error::Invalid(format!(
+                "{}: the output is a folder",
+                out.display()
+            )));
         }
+        let target = file_key(out)?;
         for i in inputs {
-            if std::fs::canonicalize(i).is_ok_and(|c| c == target) {
+            if file_key(i).is_ok_and(|k| k == target) {
                 return Err(Error::Invalid(format!(
                     "{}: the output is one of the inputs; give another output file",
                     out.display()
                 )));
             }
         }
-        if std::fs::metadata(&target).is_ok_and(|m| m.is_dir()) {
-            return Err(Error::Invalid(format!(
-                "{}: the output is a folder",
-                out.display()
-            )));
+        if !meta.is_file() {
+            // A device or a FIFO (`/dev/stdout`): written into; a rename would replace it.
+            return std::fs::write(out, text).map_err(|e| Error::io(out, e));
         }
     }
     let dir = out
@@ -583,10 +605,10 @@ pub fn write_atomic(out: &Path, text: &[u8], inputs: &[PathBuf]) -> Result<()> {
 }
 
 /// Writes the merged FOON as text with provenance (see [`merged_text`]) to `out`, atomically,
-/// refusing an output that is one of `inputs` (the files read, see [`expand_paths`]).
-pub fn write_merged(m: &Merged, out: &Path, inputs: &[PathBuf]) -> Result<()> {
+/// refusing an output that is one of the files read.
+pub fn write_merged(m: &Merged, out: &Path) -> Result<()> {
     let text = merged_text(&m.foon, &header_line(m));
-    write_atomic(out, text.as_bytes(), inputs)
+    write_atomic(out, text.as_bytes(), &m.inputs)
 }
 
 /// Parses FOON text and, when it has the provenance comments of [`merged_text`], gives each FU

@@ -70,8 +70,7 @@ pub(crate) fn merge_paths<'py>(
         }
         let m = merge::merge_files(&paths, opts, cancel)?;
         if let Some(o) = &out {
-            let inputs = merge::expand_paths(&paths)?;
-            merge::write_merged(&m, o, &inputs)?;
+            merge::write_merged(&m, o)?;
         }
         Ok(m)
     })?;
