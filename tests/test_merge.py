@@ -230,6 +230,13 @@ def test_merged_text_reads_back(tmp_path: Path, level: int) -> None:
         assert back.sources(i) == f.sources(i)
         assert back.support(i) == f.support(i)
     assert _merge.provenance_lines(back) == _merge.provenance_lines(f)
+    # Written again, the text is the same bytes (the header line is the file's own).
+    header = text.split("\n", 1)[0].removeprefix("# foon merge:\t")
+    assert _merge.merged_text(back, header) == text
+    # The same merge again writes the same bytes.
+    again = tmp_path / "again.txt"
+    _merge.merge(*folders, level=level, out=again)
+    assert again.read_bytes() == out.read_bytes()
     # A plain load reads the same units (the provenance lines are comments).
     plain = foon.load(out)
     assert [plain.fu_text(i) for i in range(plain.fu_count)] == [
@@ -275,6 +282,21 @@ def test_strange_paths_round_trip() -> None:
     ]
     assert f.sources(0) == [(names[0], 1), (names[1], 6), (names[2], 1)]
     assert (f.support(0), f.support(1)) == (3, 2)
+
+
+def test_strict_merge_fails_on_a_fault() -> None:
+    need_shared()
+    with pytest.raises(foon.ParseError, match="strict"):
+        _merge.merge(DATA / "subgraphs_sakib_TXT", strict=True)
+
+
+def test_sources_of_a_plain_load() -> None:
+    need_shared()
+    f = foon.load(DATA / "FOON.txt")
+    assert f.sources(0) == [(str(DATA / "FOON.txt"), f.fu(0).line)]
+    assert f.support(0) == 1
+    with pytest.raises(IndexError):
+        f.sources(f.fu_count)
 
 
 def test_plain_text_has_no_provenance() -> None:
