@@ -990,6 +990,15 @@ class Foon:
     def fu_text(self, i: int) -> str:
         return self._native.fu_text(i)
 
+    def sources(self, i: int) -> list[tuple[str, int]]:
+        """Every (source path, line) where unit ``i`` was found, in reading order, its kept
+        copy first (``""`` names text given in memory)."""
+        return _foon.fu_sources(self._native, i)
+
+    def support(self, i: int) -> int:
+        """The number of distinct sources that hold unit ``i``."""
+        return int(_foon.fu_support(self._native, i))
+
     def to_text(self) -> str:
         """The whole FOON in the course text form."""
         return self._native.to_text()

@@ -310,3 +310,37 @@ __all__ += [
     "synth_text",
     "synth_write",
 ]
+
+# Merging (foon_core::merge).
+def merge_paths(
+    paths: Sequence[_Path],
+    *,
+    level: int = 3,
+    min_support: int = 1,
+    strict: bool = False,
+    out: _Path | None = None,
+) -> tuple[Foon, dict[str, int | str]]: ...
+def merge_texts(
+    sources: Sequence[tuple[str, str | bytes]],
+    *,
+    level: int = 3,
+    min_support: int = 1,
+    strict: bool = False,
+) -> tuple[Foon, dict[str, int | str]]: ...
+def merged_text(foon: Foon, header: str = "") -> str: ...
+def parse_merged(text: str | bytes, *, strict: bool = False, path: _Path | None = None) -> Foon: ...
+def load_merged(path: _Path, *, strict: bool = False) -> Foon: ...
+def fu_sources(foon: Foon, fu: int) -> list[tuple[str, int]]: ...
+def fu_support(foon: Foon, fu: int) -> int: ...
+def provenance_text(foon: Foon) -> str: ...
+
+__all__ += [
+    "fu_sources",
+    "fu_support",
+    "load_merged",
+    "merge_paths",
+    "merge_texts",
+    "merged_text",
+    "parse_merged",
+    "provenance_text",
+]

@@ -15,6 +15,7 @@ mod forward;
 pub mod index;
 pub mod kitchen;
 pub mod lint;
+pub mod merge;
 pub mod model;
 pub mod parse;
 pub mod prepare;

@@ -11,6 +11,7 @@ mod foon;
 mod json;
 mod kitchen;
 mod loaders;
+mod merge;
 mod plan;
 mod planner;
 mod serial;
@@ -25,6 +26,11 @@ mod _foon {
     use super::json::{check_json, objects_json, stats_json, verify_json};
     #[pymodule_export]
     use super::kitchen::PyKitchen;
+    #[pymodule_export]
+    use super::merge::{
+        fu_sources, fu_support, load_merged, merge_paths, merge_texts, merged_text, parse_merged,
+        provenance_text,
+    };
     #[pymodule_export]
     use super::plan::PyPlan;
     #[pymodule_export]
