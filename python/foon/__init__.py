@@ -48,6 +48,7 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
+    from foon._merge import MergeReport, load_merged, merge, merge_report
     from foon._synth import (
         MAX_SYNTH_UNITS,
         SYNTH_TEXT_LIMIT,
@@ -75,6 +76,7 @@ __all__ = [
     "FunctionalUnit",
     "GoalNotFoundError",
     "Kitchen",
+    "MergeReport",
     "MissingRateError",
     "MotionRates",
     "Object",
@@ -88,7 +90,10 @@ __all__ = [
     "example",
     "load",
     "load_goals",
+    "load_merged",
     "load_utensils",
+    "merge",
+    "merge_report",
     "synth",
     "synth_goals",
     "synth_kitchen",
@@ -109,6 +114,7 @@ _LAZY: dict[str, str] = {
         ),
         "foon._synth",
     ),
+    **dict.fromkeys(("MergeReport", "load_merged", "merge", "merge_report"), "foon._merge"),
 }
 
 

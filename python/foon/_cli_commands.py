@@ -481,14 +481,34 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_stats(args: argparse.Namespace) -> int:
-    loaded = [(path, load_foon(path, args.strict)) for path in args.files]
+    if args.provenance:
+        from foon import _merge
+
+        loaded = [(path, _merge.load_merged(path, strict=args.strict)) for path in args.files]
+    else:
+        loaded = [(path, load_foon(path, args.strict)) for path in args.files]
     if args.json:
-        sys.stdout.write(_foon.stats_json([(path, f._native) for path, f in loaded]))
+        text = _foon.stats_json([(path, f._native) for path, f in loaded])
+        if args.provenance:
+            import json
+
+            rows = json.loads(text)
+            for row, (_, f) in zip(rows, loaded, strict=True):
+                row["provenance"] = [
+                    {"unit": i, "support": f.support(i), "sources": f.sources(i)}
+                    for i in range(f.fu_count)
+                ]
+            text = json.dumps(rows, indent=2) + "\n"
+        sys.stdout.write(text)
         return 0
     for path, f in loaded:
         print(path)
         for k, v in f.stats().items():
             print(f"  {k.replace('_', ' '):<20} {v:>10,}")
+        if args.provenance:
+            from foon import _merge
+
+            sys.stdout.write(_merge.provenance_lines(f))
     return 0
 
 

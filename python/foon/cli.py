@@ -1,5 +1,6 @@
 """The ``foon`` command line: ``foon plan``, ``compare``, ``verify``, ``check``, ``stats``,
-``export``, ``draw``, ``synth``.
+``export``, ``draw``, ``merge``,
+``synth``.
 
 Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
 stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
@@ -82,11 +83,11 @@ def _folder(text: str) -> str:
 
 
 #: The commands, in the order ``foon --help`` lists them.
-COMMANDS = ("plan", "compare", "verify", "check", "stats", "export", "draw", "synth")
+COMMANDS = ("plan", "compare", "verify", "check", "stats", "export", "draw", "merge", "synth")
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("synth",)
+_OWN_MODULE = ("merge", "synth")
 
 
 def _columns() -> int:
@@ -178,6 +179,16 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
                 "Writes a FOON (all of it, or with --goal and --depth the units around one "
                 "object) as JSON, GraphML, DOT, a picture, course text, or (with --goal and "
                 "--kitchen) a PDDL domain and problem."
+            ),
+        ),
+        "merge": (
+            "merge FOON files and folders into one, with provenance and support",
+            (
+                "Merges FOON files (any dialect; a folder stands for its .txt and .json files, "
+                "sorted) into one FOON: a unit that repeats an earlier one at --level is "
+                "dropped, the first copy is kept with every file and line it was found at. "
+                "Writes course-form text with '#' provenance lines (every FOON reader skips "
+                "them)."
             ),
         ),
         "synth": (
@@ -300,6 +311,14 @@ def _check_options(ck: argparse.ArgumentParser) -> None:
 def _stats_options(st: argparse.ArgumentParser) -> None:
     st.add_argument("files", nargs="+", metavar="FILE")
     st.add_argument("--json", action="store_true", help="machine-readable output")
+    st.add_argument(
+        "--provenance",
+        action="store_true",
+        help=(
+            "also list, for every unit, its support and each file and line it was found at "
+            "(the '#' lines of a merged FOON)"
+        ),
+    )
     st.add_argument("--strict", action="store_true", help="turn load warnings into errors")
 
 
