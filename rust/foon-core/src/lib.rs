@@ -17,6 +17,7 @@ pub mod lint;
 pub mod model;
 pub mod parse;
 pub mod prepare;
+pub mod progress;
 pub mod search;
 pub mod verify;
 pub mod write;
