@@ -35,7 +35,7 @@ import sys, time
 import foon
 t = time.perf_counter()
 f = foon.load(sys.argv[1])
-print(time.perf_counter() - t, f.unit_count)
+print(time.perf_counter() - t, f.fu_count)
 """
 
 

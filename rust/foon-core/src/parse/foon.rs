@@ -85,7 +85,7 @@ impl Block {
 pub(super) const CANCEL_EVERY_LINES: u64 = 4096;
 
 /// Bytes per chunk read on one thread when the caller sets none (chunks end at line ends).
-pub(super) const DEFAULT_CHUNK_BYTES: usize = 512 << 10;
+pub(super) const DEFAULT_CHUNK_BYTES: usize = 256 << 10;
 
 /// A string interner local to one chunk: a chunk's lines are read on their own thread with
 /// local ids, and the index interns each distinct string of a chunk once, in reading order.
@@ -147,7 +147,7 @@ enum StateOp {
     /// A plain state (local id of the normalised second field).
     Plain(u32),
     /// A malformed third field: column and reason.
-    BadAnnotation(u32, String),
+    BadAnnotation(Box<(u32, String)>),
     /// An ingredient list: byte offset of the field, byte range of the text between the
     /// braces (in the line), and the range of its items in [`Chunk::ings`].
     Ingredients {
@@ -180,14 +180,16 @@ enum Op {
     },
 }
 
-/// A line that does something: its number within the chunk, where it starts in the chunk and
-/// its length (for the columns of rare messages), and what it is.
+/// A line that does something: its number within the chunk, where it starts in the chunk (for
+/// the columns of rare messages), and what it is.
 struct LineOp {
     number: u32,
     start: u32,
-    len: u32,
     op: Op,
 }
+
+// A chunk's lines are held until they are fed: keep each small.
+const _: () = assert!(std::mem::size_of::<LineOp>() <= 32);
 
 /// A chunk of lines read on its own: every line that does something, the ingredient items,
 /// the chunk's strings, and how many lines and bytes it spans.
@@ -230,7 +232,6 @@ fn read_chunk(data: &[u8], path: Option<&Path>) -> Chunk {
                 c.ops.push(LineOp {
                     number: line as u32,
                     start: 0,
-                    len: 0,
                     op: Op::Stop(err(line, column, reason)),
                 });
                 break;
@@ -242,7 +243,6 @@ fn read_chunk(data: &[u8], path: Option<&Path>) -> Chunk {
             c.ops.push(LineOp {
                 number: number as u32,
                 start,
-                len: line.text.len() as u32,
                 op,
             });
         };
@@ -293,7 +293,7 @@ fn read_chunk(data: &[u8], path: Option<&Path>) -> Chunk {
             LineKind::State => Op::State(match fields.get(2) {
                 None => StateOp::Plain(c.local.intern(&value)),
                 Some(&(f2_off, f2)) => match annotation(f2) {
-                    Err(r) => StateOp::BadAnnotation(line.column_of(f2_off), r),
+                    Err(r) => StateOp::BadAnnotation(Box::new((line.column_of(f2_off), r))),
                     Ok(Annotation::Ingredients(inner)) => {
                         let first = c.ings.len() as u32;
                         let mut offset = f2_off + 1;
@@ -463,7 +463,11 @@ impl Feeder<'_, '_> {
         // The line's text, for the columns of rare messages.
         let text = || {
             let s = lo.start as usize;
-            let t = std::str::from_utf8(&data[s..s + lo.len as usize]).unwrap_or("");
+            let rest = &data[s.min(data.len())..];
+            let end = memchr::memchr(b'\n', rest).unwrap_or(rest.len());
+            let raw = &rest[..end];
+            let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+            let t = std::str::from_utf8(raw).unwrap_or("");
             Line { number, text: t }
         };
         match lo.op {
@@ -500,8 +504,8 @@ impl Feeder<'_, '_> {
                         let id = self.id(b, c, id);
                         push_state(&mut self.block, id);
                     }
-                    StateOp::BadAnnotation(col, ref reason) => {
-                        return Err(err(col, reason.clone()));
+                    StateOp::BadAnnotation(ref bad) => {
+                        return Err(err(bad.0, bad.1.clone()));
                     }
                     StateOp::Ingredients {
                         f2_off,
