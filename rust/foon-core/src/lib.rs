@@ -19,6 +19,7 @@ pub mod merge;
 pub mod model;
 pub mod parse;
 pub mod prepare;
+pub mod progress;
 pub mod search;
 pub mod synth;
 pub mod verify;

@@ -51,7 +51,14 @@ pub(crate) struct Lines<'a> {
 impl<'a> Lines<'a> {
     pub(crate) fn new(data: &'a [u8], path: Option<&'a Path>, kind: InputKind) -> Self {
         // A UTF-8 byte-order mark at the start is not part of the first line.
-        let data = strip_bom(data);
+        Self::part(strip_bom(data), path, kind)
+    }
+
+    /// The lines of a part of an input that starts at a line boundary (no byte-order mark is
+    /// looked for), numbered from 1 within the part. A part that ends at a line end gives the
+    /// same lines and faults as the same bytes inside the whole input, since a line feed is
+    /// never inside a UTF-8 sequence.
+    pub(crate) fn part(data: &'a [u8], path: Option<&'a Path>, kind: InputKind) -> Self {
         let (valid, bad_utf8) = match std::str::from_utf8(data) {
             Ok(t) => (t, false),
             Err(e) => (
@@ -72,6 +79,11 @@ impl<'a> Lines<'a> {
             fault,
             done: false,
         }
+    }
+
+    /// How many lines have been read.
+    pub(crate) fn read_count(&self) -> u64 {
+        self.number
     }
 
     fn error(&self, line: u64, column: u32, reason: impl Into<String>) -> Error {

@@ -10,10 +10,13 @@ mod objects;
 mod rates;
 mod utensils;
 
+use std::borrow::Cow;
+use std::io::Read;
 use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::index::{Builder, Foon};
+use crate::progress::Progress;
 
 pub use lines::MAX_LINE_BYTES;
 pub(crate) use objects::parse_objects_noting;
@@ -29,11 +32,39 @@ pub struct ParseOptions {
     pub strict: bool,
 }
 
-/// Reads a whole file; the error names the file. Regular files and pipes are read (a FIFO
-/// or a process substitution such as `<(zcat foon.txt.gz)` waits for its writer, as `cat`
+/// How a parse is run, beyond what it means ([`ParseOptions`]): where it reports its
+/// progress. The default reports nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ParseControl<'a> {
+    /// Updated with the bytes read out of the bytes of the input (phase `"parse"`).
+    pub progress: Option<&'a Progress>,
+    /// Bytes of text read as one chunk on one thread (0: the default). Any value gives the
+    /// same result; tests use tiny chunks.
+    #[doc(hidden)]
+    pub chunk_bytes: usize,
+}
+
+impl ParseControl<'_> {
+    fn chunk(&self) -> usize {
+        if self.chunk_bytes == 0 {
+            foon::DEFAULT_CHUNK_BYTES
+        } else {
+            self.chunk_bytes
+        }
+    }
+
+    /// Bytes read ahead while the index is fed: a few chunks per thread.
+    fn window(&self) -> usize {
+        self.chunk()
+            .saturating_mul(2 * rayon::current_num_threads().max(1))
+    }
+}
+
+/// Checks that `path` is a file that can be read to its end: regular files and pipes are (a
+/// FIFO or a process substitution such as `<(zcat foon.txt.gz)` waits for its writer, as `cat`
 /// does); devices and sockets are refused, so that `/dev/zero` is an error rather than a read
-/// without end.
-pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+/// without end. Returns the size the file has now (0 for a pipe).
+fn check_readable(path: &Path) -> Result<u64> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if !readable_kind(meta.file_type()) {
         return Err(Error::io(
@@ -44,7 +75,69 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
             ),
         ));
     }
+    Ok(meta.len())
+}
+
+/// Reads a whole file; the error names the file (see [`check_readable`] for what is read).
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    check_readable(path)?;
     std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+/// Reads from `file` into `buf` until it holds at least `want` bytes or the file ends;
+/// returns whether it ended.
+fn read_up_to(
+    file: &mut std::fs::File,
+    path: &Path,
+    buf: &mut Vec<u8>,
+    want: usize,
+) -> Result<bool> {
+    while buf.len() < want {
+        let len = buf.len();
+        buf.resize(want.min(len + (8 << 20)), 0);
+        match file.read(&mut buf[len..]) {
+            Ok(0) => {
+                buf.truncate(len);
+                return Ok(true);
+            }
+            Ok(n) => buf.truncate(len + n),
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => buf.truncate(len),
+            Err(e) => return Err(Error::io(path, e)),
+        }
+    }
+    Ok(false)
+}
+
+/// Windows of whole lines read from a file, so that the text is never held whole.
+struct FileWindows<'p> {
+    file: std::fs::File,
+    path: &'p Path,
+    /// Bytes read past the last line end of the previous window.
+    carry: Vec<u8>,
+    window: usize,
+    ended: bool,
+}
+
+impl foon::Source<'static> for FileWindows<'_> {
+    fn next_window(&mut self) -> Result<Option<Cow<'static, [u8]>>> {
+        let mut w = std::mem::take(&mut self.carry);
+        let mut want = self.window;
+        loop {
+            if !self.ended {
+                self.ended = read_up_to(&mut self.file, self.path, &mut w, want)?;
+            }
+            if self.ended {
+                return Ok((!w.is_empty()).then_some(Cow::Owned(w)));
+            }
+            if let Some(i) = memchr::memrchr(b'\n', &w) {
+                self.carry = w[i + 1..].to_vec();
+                w.truncate(i + 1);
+                return Ok(Some(Cow::Owned(w)));
+            }
+            // One line longer than a window: read on to its end.
+            want = w.len().saturating_add(self.window);
+        }
+    }
 }
 
 #[cfg(unix)]
@@ -101,12 +194,133 @@ pub fn parse_into(
     errors: Option<&mut Vec<Error>>,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<()> {
+    parse_into_with(b, data, path, opts, errors, cancel, ParseControl::default())
+}
+
+/// As [`parse_into`], run as `ctl` says (progress in bytes of `data`). FOON text is read in
+/// chunks on the thread pool and fed to `b` in order: the result does not depend on the
+/// number of threads.
+pub fn parse_into_with(
+    b: &mut Builder,
+    data: &[u8],
+    path: Option<&Path>,
+    opts: ParseOptions,
+    errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
+    ctl: ParseControl<'_>,
+) -> Result<()> {
     b.begin_source(path);
-    if json::is_json(data) {
+    if let Some(p) = ctl.progress {
+        p.begin("parse", data.len() as u64);
+    }
+    let r = if json::is_json(data) {
         json::parse_impl(b, data, path, opts, errors, cancel)
     } else {
-        foon::parse_impl(b, data, path, opts, errors, cancel)
+        let text = lines::strip_bom(data);
+        if let Some(p) = ctl.progress {
+            p.add((data.len() - text.len()) as u64);
+        }
+        let mut windows = foon::InMemory {
+            data: text,
+            window: ctl.window(),
+        };
+        foon::parse_stream(
+            b,
+            &mut windows,
+            path,
+            opts,
+            errors,
+            cancel,
+            ctl.progress,
+            ctl.chunk(),
+        )
+    };
+    if let (Some(p), true) = (ctl.progress, r.is_ok()) {
+        p.finish();
     }
+    r
+}
+
+/// As [`parse_into`] for the file at `path`, read as it is parsed: FOON text is read in
+/// windows of whole lines (so the file is never held whole next to the index; the lab's JSON
+/// is read whole). Progress is in bytes of the file (of unknown total for a pipe).
+pub fn load_into(
+    b: &mut Builder,
+    path: &Path,
+    opts: ParseOptions,
+    errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
+    ctl: ParseControl<'_>,
+) -> Result<()> {
+    if cancel() {
+        return Err(Error::Cancelled);
+    }
+    let size = check_readable(path)?;
+    let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    // Enough of the start to tell JSON from text (its first byte that is not blank).
+    let mut head = Vec::new();
+    let mut ended = false;
+    let step = 64 << 10;
+    while !ended {
+        let want = head.len() + step;
+        ended = read_up_to(&mut file, path, &mut head, want)?;
+        if head.len() >= 3
+            && lines::strip_bom(&head)
+                .iter()
+                .any(|c| !c.is_ascii_whitespace())
+        {
+            break;
+        }
+    }
+    if json::is_json(&head) {
+        if !ended {
+            file.read_to_end(&mut head)
+                .map_err(|e| Error::io(path, e))?;
+        }
+        return parse_into_with(b, &head, Some(path), opts, errors, cancel, ctl);
+    }
+    b.begin_source(Some(path));
+    if let Some(p) = ctl.progress {
+        p.begin("parse", size);
+    }
+    let bom = head.len() - lines::strip_bom(&head).len();
+    if let Some(p) = ctl.progress {
+        p.add(bom as u64);
+    }
+    head.drain(..bom);
+    let mut windows = FileWindows {
+        file,
+        path,
+        carry: head,
+        window: ctl.window(),
+        ended,
+    };
+    let r = foon::parse_stream(
+        b,
+        &mut windows,
+        Some(path),
+        opts,
+        errors,
+        cancel,
+        ctl.progress,
+        ctl.chunk(),
+    );
+    if let (Some(p), true) = (ctl.progress, r.is_ok()) {
+        p.finish();
+    }
+    r
+}
+
+/// Reads a file and parses it (see [`load_into`]): the file is read as it is parsed.
+pub fn load_foon_with(
+    path: &Path,
+    opts: ParseOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+    ctl: ParseControl<'_>,
+) -> Result<Foon> {
+    let mut b = Builder::new();
+    load_into(&mut b, path, opts, None, cancel, ctl)?;
+    Ok(b.finish())
 }
 
 /// Parses FOON text, going on after malformed lines: each error is collected and the unit it
