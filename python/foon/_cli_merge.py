@@ -49,6 +49,7 @@ def add_merge_options(sp: argparse.ArgumentParser) -> None:
     )
     sp.add_argument("--strict", action="store_true", help="turn load warnings into errors")
     sp.add_argument("--json", action="store_true", help="print the summary as JSON")
+    sp.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
 
 def _warn(items: list[tuple[str | None, int, int, str, str]]) -> None:
@@ -58,6 +59,8 @@ def _warn(items: list[tuple[str | None, int, int, str, str]]) -> None:
 
 
 def cmd_merge(args: argparse.Namespace) -> int:
+    from foon._progress import wanted
+
     if args.min_support < 1:
         raise UsageError(f"--min-support must be at least 1 (got {args.min_support})")
     to_stdout = args.output == "-"
@@ -67,6 +70,7 @@ def cmd_merge(args: argparse.Namespace) -> int:
         min_support=args.min_support,
         strict=args.strict,
         out=None if to_stdout else args.output,
+        progress=wanted(args.quiet),
     )
     report = MergeReport(raw)
     _warn(native.warnings())

@@ -59,12 +59,9 @@ def add_synth_options(sp: argparse.ArgumentParser) -> None:
 
 def _bar(quiet: bool) -> Callable[[int, int], None] | None:
     """A progress bar on stderr when it is a terminal (none with -q, in CI, TERM=dumb)."""
-    if quiet or os.environ.get("CI") or os.environ.get("TERM") == "dumb":
-        return None
-    try:
-        if not sys.stderr.isatty():
-            return None
-    except (AttributeError, ValueError):
+    from foon._progress import wanted
+
+    if not wanted(quiet):
         return None
 
     def show(done: int, total: int) -> None:

@@ -319,6 +319,7 @@ def merge_paths(
     min_support: int = 1,
     strict: bool = False,
     out: _Path | None = None,
+    progress: bool = False,
 ) -> tuple[Foon, dict[str, int | str]]: ...
 def merge_texts(
     sources: Sequence[tuple[str, str | bytes]],

@@ -84,13 +84,15 @@ def merge_report(
     min_support: int = 1,
     strict: bool = False,
     out: PathLike | None = None,
+    progress: bool = False,
 ) -> tuple[Foon, MergeReport]:
-    """As :func:`merge`, also returning the :class:`MergeReport`."""
+    """As :func:`merge`, also returning the :class:`MergeReport`. ``progress``: draw a bar of
+    the files read on stderr (only wise on a terminal)."""
     if not paths:
         raise ValueError("merge needs at least one file or folder")
     _check(level, min_support)
     native, report = _foon.merge_paths(
-        list(paths), level=level, min_support=min_support, strict=strict, out=out
+        list(paths), level=level, min_support=min_support, strict=strict, out=out, progress=progress
     )
     return _wrap(native), MergeReport(report)
 

@@ -60,6 +60,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use crate::error::{Error, InputKind, Result, WarningKind};
 use crate::index::{Builder, Foon, NONE, RawObject};
 use crate::parse::{ParseOptions, parse_into};
+use crate::progress::Progress;
 
 /// How to merge.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -207,8 +208,21 @@ pub fn merge_files(
     opts: MergeOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Merged> {
+    merge_files_with(paths, opts, cancel, None)
+}
+
+/// As [`merge_files`], counting the files read in `progress` (phase `merge`).
+pub fn merge_files_with(
+    paths: &[PathBuf],
+    opts: MergeOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+    progress: Option<&Progress>,
+) -> Result<Merged> {
     opts.check()?;
     let files = expand_paths(paths)?;
+    if let Some(p) = progress {
+        p.begin("merge", files.len() as u64);
+    }
     let mut b = Builder::new();
     for f in &files {
         if cancel() {
@@ -216,6 +230,9 @@ pub fn merge_files(
         }
         let data = crate::parse::read_file(f)?;
         read_source(&mut b, &data, f, opts, cancel)?;
+        if let Some(p) = progress {
+            p.add(1);
+        }
     }
     let mut m = finish(b, files.len(), opts);
     m.inputs = files;

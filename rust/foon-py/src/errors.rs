@@ -96,9 +96,19 @@ const POLL: Duration = Duration::from_millis(20);
 /// work stops at its next check with `Error::Cancelled`, and the handler's exception
 /// (`KeyboardInterrupt`) is what the call raises, even when the work finished anyway. Core
 /// errors become typed Python exceptions; a panic becomes `PanicException`.
-#[allow(clippy::redundant_closure_for_method_calls)] // `Python::check_signals` is not general enough
 pub(crate) fn enter<T: Send>(
     py: Python<'_>,
+    work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
+) -> PyResult<T> {
+    enter_watching(py, &|| {}, work)
+}
+
+/// As [`enter`], calling `watch` on the waiting thread at every look at the signals (every
+/// 20 ms) while the work runs: how a progress bar is drawn from the core's counters.
+#[allow(clippy::redundant_closure_for_method_calls)] // `Python::check_signals` is not general enough
+pub(crate) fn enter_watching<T: Send>(
+    py: Python<'_>,
+    watch: &(dyn Fn() + Sync),
     work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
 ) -> PyResult<T> {
     let stop = AtomicBool::new(false);
@@ -124,7 +134,11 @@ pub(crate) fn enter<T: Send>(
             };
             while !done.load(Ordering::Acquire) {
                 std::thread::park_timeout(POLL);
-                if done.load(Ordering::Acquire) || raised.is_some() {
+                if done.load(Ordering::Acquire) {
+                    continue;
+                }
+                watch();
+                if raised.is_some() {
                     continue;
                 }
                 if let Err(e) = Python::attach(|py| py.check_signals()) {

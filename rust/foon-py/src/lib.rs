@@ -14,6 +14,7 @@ mod loaders;
 mod merge;
 mod plan;
 mod planner;
+mod progress;
 mod serial;
 mod synth;
 mod writers;

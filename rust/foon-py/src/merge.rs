@@ -10,6 +10,7 @@ use pyo3::types::PyDict;
 
 use crate::convert::{fu_index, opt_path_arg, path_arg, text_bytes};
 use crate::errors::enter;
+use crate::progress::enter_progress;
 use crate::foon::PyFoon;
 
 fn options(level: u8, min_support: u32, strict: bool) -> MergeOptions {
@@ -44,7 +45,7 @@ fn report<'py>(py: Python<'py>, m: &Merged) -> PyResult<Bound<'py, PyDict>> {
 /// writes the merged text with its provenance there, atomically, never over an input.
 /// Returns (FOON, report).
 #[pyfunction]
-#[pyo3(signature = (paths, *, level = 3, min_support = 1, strict = false, out = None))]
+#[pyo3(signature = (paths, *, level = 3, min_support = 1, strict = false, out = None, progress = false))]
 pub(crate) fn merge_paths<'py>(
     py: Python<'py>,
     paths: Vec<Bound<'py, PyAny>>,
@@ -52,6 +53,7 @@ pub(crate) fn merge_paths<'py>(
     min_support: u32,
     strict: bool,
     out: Option<&Bound<'py, PyAny>>,
+    progress: bool,
 ) -> PyResult<(PyFoon, Bound<'py, PyDict>)> {
     let paths: Vec<PathBuf> = paths
         .iter()
@@ -59,7 +61,7 @@ pub(crate) fn merge_paths<'py>(
         .collect::<PyResult<_>>()?;
     let out = opt_path_arg("out", out)?;
     let opts = options(level, min_support, strict);
-    let m = enter(py, |cancel| {
+    let m = enter_progress(py, progress, false, |cancel, bar| {
         if let Some(o) = &out {
             if o.extension().is_some_and(|e| e == "foonidx") {
                 return Err(foon_core::Error::Invalid(format!(
@@ -68,7 +70,7 @@ pub(crate) fn merge_paths<'py>(
                 )));
             }
         }
-        let m = merge::merge_files(&paths, opts, cancel)?;
+        let m = merge::merge_files_with(&paths, opts, cancel, Some(bar))?;
         if let Some(o) = &out {
             merge::write_merged(&m, o)?;
         }
