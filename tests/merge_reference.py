@@ -13,36 +13,25 @@ only look-up table.
 The reader follows the text rules of ``foon_reference.parse`` (SEMANTICS.md section 1) for
 well-formed files: blank and ``#`` lines skipped, ``//`` ends a unit, a unit without a motion
 line or with two is dropped, a last unit without ``//`` is kept; a unit's line is the line of
-its first object or motion line. Standard library only.
+its first object or motion line. Standard library only (and the reference's object,
+``foon_reference.RefObject``).
 """
 
 from __future__ import annotations
 
 import re
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+
+from foon_reference import RefObject
 
 Identity = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
 _KIND = re.compile(r"^[OSM][0-9]*\t")
 
 
-@dataclass
-class Obj:
-    """An object as written in a unit (states and ingredients in line order)."""
-
-    label: str
-    states: list[str] = field(default_factory=list)
-    ingredients: list[str] = field(default_factory=list)
-    container: str | None = None
-
-    def identity(self) -> Identity:
-        return (
-            self.label,
-            tuple(sorted(self.states)),
-            tuple(sorted(self.ingredients)),
-            self.container,
-        )
+#: An object as written in a unit (states and ingredients in line order): the reference's.
+Obj = RefObject
 
 
 @dataclass
