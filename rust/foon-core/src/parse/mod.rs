@@ -154,7 +154,9 @@ pub fn load_foon(path: &Path, opts: ParseOptions) -> Result<Foon> {
 }
 
 /// As [`load_foon`], calling `cancel` every few thousand lines (see
-/// [`parse_foon_cancellable`]).
+/// [`parse_foon_cancellable`]). A file that starts with the index magic is opened as a
+/// `.foonidx` index ([`Foon::open_index`]: memory-mapped, whatever its name); text and JSON
+/// are parsed into a builder sized from the file's length.
 pub fn load_foon_cancellable(
     path: &Path,
     opts: ParseOptions,
@@ -163,6 +165,17 @@ pub fn load_foon_cancellable(
     if cancel() {
         return Err(Error::Cancelled);
     }
+    // A regular file is probed for the magic; a pipe is read once and its bytes tell.
+    let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+    if regular && crate::index::file::is_index_file(path) {
+        return Foon::open_index(path);
+    }
     let data = read_file(path)?;
-    parse_foon_cancellable(&data, Some(path), opts, cancel)
+    if crate::index::file::is_index(&data) {
+        return Foon::from_index_bytes(&data, path);
+    }
+    let mut b = Builder::for_bytes(data.len());
+    parse_into(&mut b, &data, Some(path), opts, None, cancel)?;
+    drop(data);
+    b.try_finish()
 }
