@@ -451,3 +451,22 @@ fn writing_over_an_input_is_refused() {
     assert_eq!(left.len(), 2);
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// Writes the seed corpus of the `foonidx` fuzz target into `$FOONIDX_SEED_CORPUS` (when
+/// set): the index files of the course FOON and of some subgraphs.
+#[test]
+fn seed_corpus() {
+    let Some(dir) = std::env::var_os("FOONIDX_SEED_CORPUS") else {
+        return;
+    };
+    let Some(s) = shared() else { return };
+    let dir = PathBuf::from(dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let d = s.join("data/foon");
+    for (k, p) in data_files(&d).iter().enumerate().step_by(25) {
+        if let Ok(f) = load_foon(p, ParseOptions::default()) {
+            f.write_index_file(&dir.join(format!("seed{k:03}.foonidx")))
+                .unwrap();
+        }
+    }
+}

@@ -1,7 +1,7 @@
 //! `foon._foon.Foon`: a parsed FOON, immutable and shared between threads.
 
-use std::hash::{Hash, Hasher};
-use std::sync::{Arc, OnceLock};
+use std::path::PathBuf;
+use std::sync::Arc;
 
 use foon_core::ObjectSpec;
 use foon_core::{ParseOptions, verify, write};
@@ -38,25 +38,43 @@ fn parse_foon(
 #[pyclass(frozen, module = "foon._foon", name = "Foon")]
 pub(crate) struct PyFoon {
     pub(crate) inner: Arc<foon_core::Foon>,
-    /// A hash of the serialised form, computed on first use.
-    fingerprint: OnceLock<u64>,
 }
 
 impl PyFoon {
     pub(crate) fn new(foon: foon_core::Foon) -> Self {
         Self {
             inner: Arc::new(foon),
-            fingerprint: OnceLock::new(),
         }
     }
 
-    fn fingerprint(&self) -> u64 {
-        *self.fingerprint.get_or_init(|| {
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            serial::encode(&self.inner).hash(&mut h);
-            h.finish()
-        })
+    /// The first 8 bytes of the content fingerprint, for `__hash__`.
+    fn hash_key(&self) -> u64 {
+        let fp = self.inner.fingerprint();
+        u64::from_le_bytes([fp[0], fp[1], fp[2], fp[3], fp[4], fp[5], fp[6], fp[7]])
     }
+}
+
+/// Builds one index from several FOON files (any dialect each), in the given order.
+fn load_sources(
+    paths: &[PathBuf],
+    opts: ParseOptions,
+    cancel: Cancel<'_>,
+) -> foon_core::Result<foon_core::Foon> {
+    let mut b = foon_core::index::Builder::new();
+    for p in paths {
+        if cancel() {
+            return Err(foon_core::Error::Cancelled);
+        }
+        let data = std::fs::read(p).map_err(|e| foon_core::Error::io(p, e))?;
+        if foon_core::index::file::is_index(&data) {
+            return Err(foon_core::Error::Invalid(format!(
+                "{}: an index file cannot be a source of another index (give its FOON files)",
+                p.display()
+            )));
+        }
+        foon_core::parse::parse_into(&mut b, &data, Some(p), opts, None, cancel)?;
+    }
+    b.try_finish()
 }
 
 /// Dropped duplicate units: (line of the dropped copy, index of the kept one).
@@ -78,6 +96,71 @@ impl PyFoon {
         Ok(Self::new(foon))
     }
 
+    /// Builds one index from several FOON files, in the given order: an FU found again keeps
+    /// its first copy and records every (source, line) it was found at.
+    #[staticmethod]
+    #[pyo3(signature = (paths, *, strict = false))]
+    fn load_sources(py: Python<'_>, paths: Vec<Bound<'_, PyAny>>, strict: bool) -> PyResult<Self> {
+        let paths = paths
+            .iter()
+            .map(|p| path_arg("paths", p))
+            .collect::<PyResult<Vec<_>>>()?;
+        let foon = enter(py, |cancel| {
+            load_sources(&paths, ParseOptions { strict }, cancel)
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    /// Opens an index file again for unpickling: a clear error when the file is gone or its
+    /// content (fingerprint, as hexadecimal) is not the pickled one.
+    #[staticmethod]
+    fn reopen(py: Python<'_>, path: &Bound<'_, PyAny>, fingerprint: &str) -> PyResult<Self> {
+        let path = path_arg("path", path)?;
+        let want = fingerprint.to_owned();
+        let foon = enter(py, |_| {
+            let f = foon_core::Foon::open_index(&path)?;
+            let have = f.fingerprint_hex();
+            if have == want {
+                Ok(f)
+            } else {
+                Err(foon_core::Error::BadIndex {
+                    path: path.clone(),
+                    reason: format!(
+                        "the index file changed since the FOON was pickled \
+                         (fingerprint {want}, now {have})"
+                    ),
+                })
+            }
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    /// Writes the index as a `.foonidx` file, atomically (never over one of its inputs).
+    fn write_index(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = path_arg("path", path)?;
+        let foon = &self.inner;
+        enter(py, |_| foon.write_index_file(&path))
+    }
+
+    /// Verifies the data checksum of a FOON opened from an index file (nothing to verify for
+    /// one built in memory).
+    fn verify_checksum(&self, py: Python<'_>) -> PyResult<()> {
+        let foon = &self.inner;
+        enter(py, |_| foon.verify_checksum())
+    }
+
+    /// The content fingerprint, as 32 hexadecimal digits.
+    #[getter]
+    fn fingerprint(&self) -> String {
+        self.inner.fingerprint_hex()
+    }
+
+    /// The index file this FOON was opened from, if any.
+    #[getter]
+    fn index_path(&self) -> Option<String> {
+        self.inner.index_path().map(|p| p.display().to_string())
+    }
+
     /// Parses FOON text (`str` or `bytes`); `path` only names the source in messages.
     #[staticmethod]
     #[pyo3(signature = (text, *, strict = false, path = None))]
@@ -95,7 +178,8 @@ impl PyFoon {
         Ok(Self::new(foon))
     }
 
-    /// The stable serialised form (what pickling stores).
+    /// The stable serialised form (what pickling stores for a FOON not opened from an index
+    /// file): its index bytes and its load report.
     fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         let foon = &self.inner;
         let data = enter(py, |_| Ok(serial::encode(foon)))?;
@@ -113,12 +197,20 @@ impl PyFoon {
         Ok(Self::new(foon))
     }
 
+    /// A FOON opened from an index file pickles as (path, fingerprint) and is opened again
+    /// when unpickled; any other pickles as its serialised form.
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let py = slf.py();
+        let me = slf.get();
+        if let Some(path) = me.inner.index_path() {
+            let f = slf.get_type().getattr("reopen")?;
+            let args = (path.display().to_string(), me.inner.fingerprint_hex());
+            return Ok((f, args.into_pyobject(py)?));
+        }
         let f = slf.get_type().getattr("from_bytes")?;
-        let data = slf.get().to_bytes(py)?;
+        let data = me.to_bytes(py)?;
         Ok((f, PyTuple::new(py, [data])?))
     }
 
@@ -139,12 +231,12 @@ impl PyFoon {
         };
         let o = o.get();
         Arc::ptr_eq(&self.inner, &o.inner)
-            || (self.fingerprint() == o.fingerprint()
+            || (self.inner.fingerprint() == o.inner.fingerprint()
                 && serial::encode(&self.inner) == serial::encode(&o.inner))
     }
 
     fn __hash__(&self) -> u64 {
-        self.fingerprint()
+        self.hash_key()
     }
 
     #[getter]

@@ -436,6 +436,8 @@ impl Builder {
             c.shrink_to_fit();
         }
         f.fu_input_in_motion.shrink_to_fit();
+        f.sources.text.shrink_to_fit();
+        f.sources.ends.shrink_to_fit();
         f.fu_output_in_motion.shrink_to_fit();
         for c in [
             &mut f.obj_states,

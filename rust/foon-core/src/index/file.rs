@@ -54,7 +54,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use xxhash_rust::xxh3::{Xxh3, xxh3_64};
 
 use super::col::{Backing, Col};
@@ -387,7 +387,7 @@ impl Foon {
         let Some(f) = &self.file else { return Ok(()) };
         let name = f.path.clone().unwrap_or_else(|| "<bytes>".into());
         let data = f.backing.bytes().get(f.data_start..).unwrap_or(&[]);
-        let sum = par_xxh3(data);
+        let sum = data_xxh3(data);
         if sum != f.checksum {
             return Err(bad(
                 &name,
@@ -408,7 +408,7 @@ impl Foon {
 }
 
 /// XXH3-64 of `data` (one pass; kept as one function so the checksum is defined once).
-fn par_xxh3(data: &[u8]) -> u64 {
+fn data_xxh3(data: &[u8]) -> u64 {
     xxh3_64(data)
 }
 
@@ -686,33 +686,79 @@ fn validate(f: &Foon) -> std::result::Result<(), String> {
         Box::new(|| ids("motions", &f.motions, n_str, false)),
         Box::new(|| ids("fu_source", &f.fu_source, n_src, false)),
         Box::new(|| also(&f.fu_also.data, n_src)),
-        Box::new(|| adjacency(f, true)),
-        Box::new(|| adjacency(f, false)),
         Box::new(|| table("str_table", &f.strings.table.slots, n_str)),
         Box::new(|| table("obj_table", &f.obj_table.slots, n_obj)),
         Box::new(|| table("fu_table", &f.fu_table.slots, n_fu)),
     ];
-    // The range checks come first: the adjacency checks read rows through the ids.
-    let (ranges, links) = checks.split_at(checks.len() - 5);
-    let results: Vec<_> = ranges.par_iter().map(|c| c()).collect();
-    results
-        .into_iter()
-        .collect::<std::result::Result<(), String>>()?;
-    let results: Vec<_> = links.par_iter().map(|c| c()).collect();
-    results.into_iter().collect()
+    run_all(&checks)?;
+    // Then the adjacency (it reads rows through the ids checked above), in ranges of objects.
+    let parts = 16u32;
+    let n = n_obj as u32;
+    let mut links: Vec<Check<'_>> = Vec::new();
+    for outputs in [true, false] {
+        links.push(Box::new(move || adjacency_total(f, outputs)));
+        for k in 0..parts {
+            let (a, b) = (chunk(n, parts, k), chunk(n, parts, k + 1));
+            links.push(Box::new(move || adjacency(f, outputs, a..b)));
+        }
+    }
+    run_all(&links)
+}
+
+fn chunk(n: u32, parts: u32, k: u32) -> u32 {
+    (u64::from(n) * u64::from(k) / u64::from(parts)) as u32
+}
+
+/// Runs the checks on scoped threads (one per core, each taking the next check), and
+/// reports the first failure in list order. Scoped threads end with the call: nothing is
+/// left running (a process forked afterwards, as `multiprocessing` does, is unaffected).
+fn run_all(checks: &[Check<'_>]) -> std::result::Result<(), String> {
+    let workers = std::thread::available_parallelism()
+        .map_or(1, std::num::NonZero::get)
+        .min(checks.len())
+        .max(1);
+    let next = AtomicUsize::new(0);
+    let results: Vec<std::sync::Mutex<Option<std::result::Result<(), String>>>> =
+        checks.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let work = || {
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(c) = checks.get(i) else { break };
+            let r = c();
+            if let Ok(mut slot) = results[i].lock() {
+                *slot = Some(r);
+            }
+        }
+    };
+    std::thread::scope(|s| {
+        for _ in 1..workers {
+            s.spawn(work);
+        }
+        work();
+    });
+    for r in results {
+        if let Some(Err(e)) = r.into_inner().ok().flatten() {
+            return Err(e);
+        }
+    }
+    Ok(())
 }
 
 /// Producers (`outputs`) or consumers (`!outputs`) are exactly the relation the FU rows
 /// give, as [`super::Builder`] derives it: each object's row lists, in increasing order, the
 /// FUs that output it once (when the object is not bare), or that take it as an input once
 /// per input slot. The searches rely on it (a producer outputs its object).
-fn adjacency(f: &Foon, outputs: bool) -> std::result::Result<(), String> {
+fn adjacency(
+    f: &Foon,
+    outputs: bool,
+    objects: std::ops::Range<u32>,
+) -> std::result::Result<(), String> {
     let (name, adj, rows) = if outputs {
         ("producers", &f.producers, &f.fu_outputs)
     } else {
         ("consumers", &f.consumers, &f.fu_inputs)
     };
-    let n_obj = f.object_count() as u32;
+
     // How many entries object `o` has for FU `g`, by the FU rows.
     let wanted = |o: u32, g: u32| -> usize {
         let row = rows.row(g);
@@ -722,7 +768,7 @@ fn adjacency(f: &Foon, outputs: bool) -> std::result::Result<(), String> {
             row.iter().filter(|&&x| x == o).count()
         }
     };
-    let bad = (0..n_obj).into_par_iter().find_first(|&o| {
+    let bad = objects.into_iter().find(|&o| {
         let r = adj.row(o);
         let mut k = 0;
         while k < r.len() {
@@ -740,9 +786,17 @@ fn adjacency(f: &Foon, outputs: bool) -> std::result::Result<(), String> {
             "column {name} does not match the FU rows at object {o}"
         ));
     }
-    // Every (FU, object) pair of the rows is listed: the totals agree.
+    Ok(())
+}
+
+/// Every (FU, object) pair of the FU rows is listed in the adjacency: the totals agree.
+fn adjacency_total(f: &Foon, outputs: bool) -> std::result::Result<(), String> {
+    let (name, adj, rows) = if outputs {
+        ("producers", &f.producers, &f.fu_outputs)
+    } else {
+        ("consumers", &f.consumers, &f.fu_inputs)
+    };
     let total: usize = (0..f.fu_count() as u32)
-        .into_par_iter()
         .map(|g| {
             let row = rows.row(g);
             row.iter()
@@ -767,7 +821,7 @@ fn csr(name: &str, off: &[u32], data_len: usize) -> std::result::Result<(), Stri
     if off[0] != 0 {
         return Err(format!("column {name}_off does not start at 0"));
     }
-    if let Some(i) = off.par_windows(2).position_first(|w| w[1] < w[0]) {
+    if let Some(i) = off.windows(2).position(|w| w[1] < w[0]) {
         return Err(format!("column {name}_off decreases at row {i}"));
     }
     let last = off[off.len() - 1] as usize;
@@ -781,7 +835,7 @@ fn csr(name: &str, off: &[u32], data_len: usize) -> std::result::Result<(), Stri
 
 fn ids(name: &str, col: &[u32], bound: usize, none: bool) -> std::result::Result<(), String> {
     let bad = |x: u32| (x as usize) >= bound && !(none && x == NONE);
-    match col.par_iter().position_first(|&x| bad(x)) {
+    match col.iter().position(|&x| bad(x)) {
         Some(i) => Err(format!(
             "column {name} holds {} at position {i}, out of range (there are {bound})",
             col[i]
@@ -791,7 +845,7 @@ fn ids(name: &str, col: &[u32], bound: usize, none: bool) -> std::result::Result
 }
 
 fn flags(name: &str, col: &[u8]) -> std::result::Result<(), String> {
-    match col.par_iter().position_first(|&x| x > 2) {
+    match col.iter().position(|&x| x > 2) {
         Some(i) => Err(format!(
             "column {name} holds {} at position {i} (flags are 0, 1 or 2)",
             col[i]
@@ -804,7 +858,7 @@ fn also(col: &[u32], n_src: usize) -> std::result::Result<(), String> {
     if col.len() % 2 != 0 {
         return Err("column fu_also has an odd length (it holds (source, line) pairs)".into());
     }
-    match col.par_chunks(2).position_first(|p| p[0] as usize >= n_src) {
+    match col.chunks_exact(2).position(|p| p[0] as usize >= n_src) {
         Some(i) => Err(format!(
             "column fu_also names source {} at pair {i}, out of range (there are {n_src})",
             col[2 * i]
@@ -827,16 +881,13 @@ fn table(name: &str, slots: &[u32], n: usize) -> std::result::Result<(), String>
             slots.len()
         ));
     }
-    if let Some(i) = slots
-        .par_iter()
-        .position_first(|&x| x != EMPTY && x as usize >= n)
-    {
+    if let Some(i) = slots.iter().position(|&x| x != EMPTY && x as usize >= n) {
         return Err(format!(
             "column {name} holds {} at slot {i}, out of range (there are {n})",
             slots[i]
         ));
     }
-    if !slots.par_iter().any(|&x| x == EMPTY) {
+    if !slots.contains(&EMPTY) {
         return Err(format!("column {name} has no empty slot"));
     }
     Ok(())
@@ -846,7 +897,7 @@ fn strings(name: &str, text: &[u8], ends: &[u64]) -> std::result::Result<(), Str
     let Ok(s) = std::str::from_utf8(text) else {
         return Err(format!("column {name}_text is not UTF-8"));
     };
-    if let Some(i) = ends.par_windows(2).position_first(|w| w[1] < w[0]) {
+    if let Some(i) = ends.windows(2).position(|w| w[1] < w[0]) {
         return Err(format!("column {name}_ends decreases at string {i}"));
     }
     let last = ends.last().copied().unwrap_or(0);
@@ -856,10 +907,7 @@ fn strings(name: &str, text: &[u8], ends: &[u64]) -> std::result::Result<(), Str
             text.len()
         ));
     }
-    if let Some(i) = ends
-        .par_iter()
-        .position_first(|&e| !s.is_char_boundary(e as usize))
-    {
+    if let Some(i) = ends.iter().position(|&e| !s.is_char_boundary(e as usize)) {
         return Err(format!("column {name}_ends cuts a character at string {i}"));
     }
     Ok(())
