@@ -691,18 +691,8 @@ fn validate(f: &Foon) -> std::result::Result<(), String> {
         Box::new(|| table("fu_table", &f.fu_table.slots, n_fu)),
     ];
     run_all(&checks)?;
-    // Then the adjacency (it reads rows through the ids checked above), in ranges of objects.
-    let parts = 16u32;
-    let n = n_obj as u32;
-    let mut links: Vec<Check<'_>> = Vec::new();
-    for outputs in [true, false] {
-        links.push(Box::new(move || adjacency_total(f, outputs)));
-        for k in 0..parts {
-            let (a, b) = (chunk(n, parts, k), chunk(n, parts, k + 1));
-            links.push(Box::new(move || adjacency(f, outputs, a..b)));
-        }
-    }
-    run_all(&links)
+    // Then the adjacency (it reads rows through the ids checked above).
+    adjacency(f)
 }
 
 fn chunk(n: u32, parts: u32, k: u32) -> u32 {
@@ -713,18 +703,131 @@ fn chunk(n: u32, parts: u32, k: u32) -> u32 {
 /// reports the first failure in list order. Scoped threads end with the call: nothing is
 /// left running (a process forked afterwards, as `multiprocessing` does, is unaffected).
 fn run_all(checks: &[Check<'_>]) -> std::result::Result<(), String> {
+    par_parts(checks.len() as u32, |i| checks[i as usize]())
+        .into_iter()
+        .collect()
+}
+
+/// Sums of a keyed mix of `(object, FU)` pairs: equal multisets of pairs give equal sums;
+/// unequal ones, unequal sums but with a negligible probability (the keys are random per
+/// process, so a file cannot be made to collide on purpose).
+#[derive(Clone, Copy, Default, PartialEq, Eq)]
+struct PairSum(u64, u64);
+
+impl PairSum {
+    #[inline]
+    fn add(&mut self, keys: (u64, u64), o: u32, f: u32) {
+        let x = (u64::from(o) << 32) | u64::from(f);
+        self.0 = self.0.wrapping_add(mix(x ^ keys.0));
+        self.1 = self.1.wrapping_add(mix(x.rotate_left(17) ^ keys.1));
+    }
+
+    fn merge(self, o: Self) -> Self {
+        Self(self.0.wrapping_add(o.0), self.1.wrapping_add(o.1))
+    }
+}
+
+#[inline]
+fn mix(mut x: u64) -> u64 {
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    x ^ (x >> 33)
+}
+
+/// Per-process random keys for [`PairSum`].
+fn pair_keys() -> (u64, u64) {
+    use std::hash::{BuildHasher, Hasher};
+    let s = std::collections::hash_map::RandomState::new();
+    let mut a = s.build_hasher();
+    a.write_u64(1);
+    let mut b = s.build_hasher();
+    b.write_u64(2);
+    (a.finish(), b.finish())
+}
+
+/// Producers and consumers are exactly the relation the FU rows give, as
+/// [`super::Builder`] derives it: each object's producers are the FUs that output it (once
+/// each, in increasing order; none for a bare object), its consumers the FUs that take it
+/// as an input (once per input slot, in non-decreasing order). The searches rely on it (a
+/// producer outputs its object). Checked in sequential scans, in parallel parts: the order
+/// of each row, and equal multisets of (object, FU) pairs from both sides ([`PairSum`]).
+fn adjacency(f: &Foon) -> std::result::Result<(), String> {
+    const PARTS: u32 = 16;
+    let keys = pair_keys();
+    let n_obj = f.object_count() as u32;
+    let n_fu = f.fu_count() as u32;
+    let bare: Vec<bool> = (0..n_obj).map(|o| f.is_bare(o)).collect();
+    let sums = par_parts(PARTS, |k| {
+        // [producers by object, consumers by object, producers by FU, consumers by FU]
+        let mut s = [PairSum::default(); 4];
+        for o in chunk(n_obj, PARTS, k)..chunk(n_obj, PARTS, k + 1) {
+            let p = f.producers.row(o);
+            if !p.is_empty() && bare[o as usize] {
+                return Err(format!(
+                    "column producers lists FUs for the bare object {o}"
+                ));
+            }
+            if p.windows(2).any(|w| w[1] <= w[0]) {
+                return Err(format!("column producers is not increasing at object {o}"));
+            }
+            for &g in p {
+                s[0].add(keys, o, g);
+            }
+            let c = f.consumers.row(o);
+            if c.windows(2).any(|w| w[1] < w[0]) {
+                return Err(format!("column consumers decreases at object {o}"));
+            }
+            for &g in c {
+                s[1].add(keys, o, g);
+            }
+        }
+        for g in chunk(n_fu, PARTS, k)..chunk(n_fu, PARTS, k + 1) {
+            let out = f.fu_outputs.row(g);
+            for (i, &o) in out.iter().enumerate() {
+                if !bare[o as usize] && !out[..i].contains(&o) {
+                    s[2].add(keys, o, g);
+                }
+            }
+            f.fu_inputs
+                .row(g)
+                .iter()
+                .for_each(|&o| s[3].add(keys, o, g));
+        }
+        Ok(s)
+    });
+    let mut total = [PairSum::default(); 4];
+    for part in sums {
+        for (t, x) in total.iter_mut().zip(part?) {
+            *t = t.merge(x);
+        }
+    }
+    if total[0] != total[2] {
+        return Err("column producers does not match the FU outputs".into());
+    }
+    if total[1] != total[3] {
+        return Err("column consumers does not match the FU inputs".into());
+    }
+    Ok(())
+}
+
+/// `work(k)` for `k` in `0..parts`, on scoped threads (one per core), in order.
+fn par_parts<T: Send>(parts: u32, work: impl Fn(u32) -> T + Sync) -> Vec<T> {
     let workers = std::thread::available_parallelism()
         .map_or(1, std::num::NonZero::get)
-        .min(checks.len())
+        .min(parts as usize)
         .max(1);
     let next = AtomicUsize::new(0);
-    let results: Vec<std::sync::Mutex<Option<std::result::Result<(), String>>>> =
-        checks.iter().map(|_| std::sync::Mutex::new(None)).collect();
-    let work = || {
+    let results: Vec<std::sync::Mutex<Option<T>>> =
+        (0..parts).map(|_| std::sync::Mutex::new(None)).collect();
+    let run = || {
         loop {
             let i = next.fetch_add(1, Ordering::Relaxed);
-            let Some(c) = checks.get(i) else { break };
-            let r = c();
+            if i >= parts as usize {
+                break;
+            }
+            let r = work(i as u32);
             if let Ok(mut slot) = results[i].lock() {
                 *slot = Some(r);
             }
@@ -732,86 +835,14 @@ fn run_all(checks: &[Check<'_>]) -> std::result::Result<(), String> {
     };
     std::thread::scope(|s| {
         for _ in 1..workers {
-            s.spawn(work);
+            s.spawn(run);
         }
-        work();
+        run();
     });
-    for r in results {
-        if let Some(Err(e)) = r.into_inner().ok().flatten() {
-            return Err(e);
-        }
-    }
-    Ok(())
-}
-
-/// Producers (`outputs`) or consumers (`!outputs`) are exactly the relation the FU rows
-/// give, as [`super::Builder`] derives it: each object's row lists, in increasing order, the
-/// FUs that output it once (when the object is not bare), or that take it as an input once
-/// per input slot. The searches rely on it (a producer outputs its object).
-fn adjacency(
-    f: &Foon,
-    outputs: bool,
-    objects: std::ops::Range<u32>,
-) -> std::result::Result<(), String> {
-    let (name, adj, rows) = if outputs {
-        ("producers", &f.producers, &f.fu_outputs)
-    } else {
-        ("consumers", &f.consumers, &f.fu_inputs)
-    };
-
-    // How many entries object `o` has for FU `g`, by the FU rows.
-    let wanted = |o: u32, g: u32| -> usize {
-        let row = rows.row(g);
-        if outputs {
-            usize::from(!f.is_bare(o) && row.contains(&o))
-        } else {
-            row.iter().filter(|&&x| x == o).count()
-        }
-    };
-    let bad = objects.into_iter().find(|&o| {
-        let r = adj.row(o);
-        let mut k = 0;
-        while k < r.len() {
-            let g = r[k];
-            let run = r[k..].iter().take_while(|&&x| x == g).count();
-            if (k > 0 && r[k - 1] > g) || run != wanted(o, g) {
-                return true;
-            }
-            k += run;
-        }
-        false
-    });
-    if let Some(o) = bad {
-        return Err(format!(
-            "column {name} does not match the FU rows at object {o}"
-        ));
-    }
-    Ok(())
-}
-
-/// Every (FU, object) pair of the FU rows is listed in the adjacency: the totals agree.
-fn adjacency_total(f: &Foon, outputs: bool) -> std::result::Result<(), String> {
-    let (name, adj, rows) = if outputs {
-        ("producers", &f.producers, &f.fu_outputs)
-    } else {
-        ("consumers", &f.consumers, &f.fu_inputs)
-    };
-    let total: usize = (0..f.fu_count() as u32)
-        .map(|g| {
-            let row = rows.row(g);
-            row.iter()
-                .enumerate()
-                .filter(|&(k, &o)| !outputs || (!f.is_bare(o) && !row[..k].contains(&o)))
-                .count()
-        })
-        .sum();
-    if total != adj.data.len() {
-        return Err(format!(
-            "column {name} has {} entries, the FU rows give {total}",
-            adj.data.len()
-        ));
-    }
-    Ok(())
+    results
+        .into_iter()
+        .filter_map(|m| m.into_inner().ok().flatten())
+        .collect()
 }
 
 fn csr(name: &str, off: &[u32], data_len: usize) -> std::result::Result<(), String> {
