@@ -59,3 +59,33 @@ def test_synth_writes_a_foon_of_the_size_asked(tmp_path: Path, capsys: Capture) 
     code, _, err = run(["synth", "--units", "500", "--seed", "3", "-o", str(out), "-q"], capsys)
     assert code == 0, err
     assert foon.load(out).fu_count == 500
+
+
+def test_merge_into_an_index_keeps_the_provenance(tmp_path: Path, capsys: Capture) -> None:
+    (tmp_path / "a.txt").write_text(UNIT_A + UNIT_B)
+    (tmp_path / "b.txt").write_text(UNIT_B)
+    text, idx = tmp_path / "m.txt", tmp_path / "m.foonidx"
+    inputs = [str(tmp_path / "a.txt"), str(tmp_path / "b.txt")]
+    assert run(["merge", *inputs, "-o", str(text), "-q"], capsys)[0] == 0
+    assert run(["merge", *inputs, "-o", str(idx), "-q"], capsys)[0] == 0
+    from_text = run(["stats", "--provenance", str(text)], capsys)[1].splitlines()
+    from_index = run(["stats", "--provenance", str(idx)], capsys)[1].splitlines()
+    assert [s for s in from_text if s.startswith("unit ")] == [
+        s for s in from_index if s.startswith("unit ")
+    ]
+    f = foon.load(idx)
+    assert f.index_path is not None and f.support(1) == 2
+
+
+def test_index_then_check_finds_a_corrupt_file(tmp_path: Path, capsys: Capture) -> None:
+    src = tmp_path / "a.txt"
+    src.write_text(UNIT_A + UNIT_B)
+    idx = tmp_path / "a.foonidx"
+    assert run(["index", str(src), "-o", str(idx), "-q"], capsys)[0] == 0
+    assert run(["check", str(idx)], capsys)[0] == 0
+    data = bytearray(idx.read_bytes())
+    data[-1] ^= 0xFF  # the last data byte: the structure may hold, the checksum does not
+    bad = tmp_path / "bad.foonidx"
+    bad.write_bytes(bytes(data))
+    code, out, err = run(["check", str(bad)], capsys)
+    assert code == 1 and "bad.foonidx" in out and "Traceback" not in out + err

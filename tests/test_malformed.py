@@ -309,8 +309,10 @@ def test_deep_chain_plans_without_crashing(
 def test_memory_is_proportional_to_the_input(tmp_path: Path) -> None:
     """Loading a chain (every object distinct: the most index per byte of text) takes memory
     in proportion to the file. From 40,000 to 400,000 units, each added byte of input adds at
-    most 3 bytes of index and at most 6 bytes of peak memory (the file, the index and the
-    builder's tables), and the larger load stays within those bounds as a whole."""
+    most 4 bytes of index (every column counted: objects, units, provenance, identity hashes
+    and their tables, which are kept at most half full) and at most 6 bytes of peak memory
+    (the index and the builder's tables; the file is read as it is parsed), and the larger
+    load stays within those bounds as a whole."""
     measured = []
     for n in (40_000, 400_000):
         path = tmp_path / f"chain{n}.foon"
@@ -318,6 +320,6 @@ def test_memory_is_proportional_to_the_input(tmp_path: Path) -> None:
         index_bytes, peak = load_memory("foon", path)
         measured.append((path.stat().st_size, index_bytes, peak))
     (size0, index0, peak0), (size1, index1, peak1) = measured
-    assert index1 - index0 <= 3 * (size1 - size0), measured
+    assert index1 - index0 <= 4 * (size1 - size0), measured
     assert peak1 - peak0 <= 6 * (size1 - size0), measured
-    assert index1 <= 3 * size1 and peak1 <= 6 * size1, measured
+    assert index1 <= 4 * size1 and peak1 <= 6 * size1, measured

@@ -912,9 +912,11 @@ class TreeCheck(_Frozen):
 
 
 class Foon:
-    """A parsed FOON: an immutable compact index, safe to share between threads. It pickles
-    (through a stable serialised form that keeps unit indices, object ids, lines and
-    warnings) and compares equal to a FOON with the same content."""
+    """A parsed FOON: an immutable compact index, safe to share between threads. It compares
+    equal to a FOON with the same content and pickles: a FOON opened from a ``.foonidx``
+    index file as its path and fingerprint (unpickling opens the file again, and fails
+    clearly when it is gone or changed), any other as its index bytes and load report (unit
+    indices, object ids, lines, sources and warnings survive)."""
 
     __slots__ = ("__weakref__", "_native")
 
@@ -922,12 +924,46 @@ class Foon:
         self._native = native
 
     @classmethod
-    def load(cls, path: PathLike, *, strict: bool = False) -> Foon:
-        """Reads a FOON file of any dialect. Annotation faults are reported as
-        :class:`FoonWarning` (errors with ``strict=True``)."""
-        f = cls(_foon.Foon.load(path, strict=strict))
+    def load(cls, path: PathLike, *, strict: bool = False, progress: bool = False) -> Foon:
+        """Reads a FOON file of any dialect, or opens a ``.foonidx`` index file (told by its
+        first bytes, not its name; memory-mapped, not copied). Annotation faults are
+        reported as :class:`FoonWarning` (errors with ``strict=True``). ``progress``: draw a
+        bar of the bytes read on stderr while a large file is parsed (for a terminal)."""
+        f = cls(_foon.Foon.load(path, strict=strict, progress=progress))
         _emit_warnings(f._native.warnings())
         return f
+
+    @classmethod
+    def load_sources(
+        cls, paths: Iterable[PathLike], *, strict: bool = False, progress: bool = False
+    ) -> Foon:
+        """Builds one index from several FOON files and folders (any dialect each; a folder
+        stands for its ``.txt`` and ``.json`` files, sorted by name), in the given order; a
+        unit found again keeps its first copy and records each source and line."""
+        f = cls(_foon.Foon.load_sources(list(paths), strict=strict, progress=progress))
+        _emit_warnings(f._native.warnings())
+        return f
+
+    def write_index(self, path: PathLike) -> None:
+        """Writes the index as a ``.foonidx`` file, atomically (a temporary file in the same
+        folder, then renamed); never over one of the FOON's inputs."""
+        self._native.write_index(path)
+
+    @property
+    def fingerprint(self) -> str:
+        """The content fingerprint (32 hexadecimal digits): equal for the same index
+        whether it was parsed from text or opened from an index file."""
+        return str(self._native.fingerprint)
+
+    @property
+    def index_path(self) -> str | None:
+        """The ``.foonidx`` file this FOON was opened from, if any."""
+        return self._native.index_path
+
+    def verify_checksum(self) -> None:
+        """Verifies the data checksum of a FOON opened from an index file
+        (:class:`FoonError` when it does not match)."""
+        self._native.verify_checksum()
 
     @classmethod
     def from_text(
@@ -1413,9 +1449,9 @@ def check(
     return [Finding(*f) for f in raw]  # type: ignore[arg-type]
 
 
-def load(path: PathLike, *, strict: bool = False) -> Foon:
-    """Reads a FOON file of any dialect (see :meth:`Foon.load`)."""
-    return Foon.load(path, strict=strict)
+def load(path: PathLike, *, strict: bool = False, progress: bool = False) -> Foon:
+    """Reads a FOON file of any dialect, or opens a ``.foonidx`` (see :meth:`Foon.load`)."""
+    return Foon.load(path, strict=strict, progress=progress)
 
 
 class Example(_Frozen):

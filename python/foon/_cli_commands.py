@@ -33,10 +33,13 @@ CHUNK = 4096
 
 
 def load_foon(path: str, strict: bool) -> foon.Foon:
-    """Loads a FOON and prints its warnings on stderr, one line each."""
+    """Loads a FOON and prints its warnings on stderr, one line each (and, on a terminal, a
+    progress bar while a large file is parsed)."""
+    from foon._progress import wanted
+
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", foon.FoonWarning)
-        f = foon.load(path, strict=strict)
+        f = foon.load(path, strict=strict, progress=wanted())
     for w in caught:
         print(f"foon: warning: {one_line(str(w.message))}", file=sys.stderr)
     return f

@@ -1,6 +1,6 @@
 """The ``foon`` command line: ``foon plan``, ``compare``, ``verify``, ``check``, ``stats``,
-``export``, ``draw``, ``merge``,
-``synth``.
+``export``, ``draw``, ``index``,
+``merge``, ``synth``.
 
 Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
 stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
@@ -83,11 +83,22 @@ def _folder(text: str) -> str:
 
 
 #: The commands, in the order ``foon --help`` lists them.
-COMMANDS = ("plan", "compare", "verify", "check", "stats", "export", "draw", "merge", "synth")
+COMMANDS = (
+    "plan",
+    "compare",
+    "verify",
+    "check",
+    "stats",
+    "export",
+    "draw",
+    "index",
+    "merge",
+    "synth",
+)
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("merge", "synth")
+_OWN_MODULE = ("index", "merge", "synth")
 
 
 def _columns() -> int:
@@ -179,6 +190,15 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
                 "Writes a FOON (all of it, or with --goal and --depth the units around one "
                 "object) as JSON, GraphML, DOT, a picture, course text, or (with --goal and "
                 "--kitchen) a PDDL domain and problem."
+            ),
+        ),
+        "index": (
+            "build a .foonidx index file",
+            (
+                "Builds one .foonidx index from FOON files (any dialect, in order; a folder "
+                "gives its FOON files, sorted), keeping every unit's source and line; written "
+                "atomically, never over an input. Every command and foon.load open it with a "
+                "memory map."
             ),
         ),
         "merge": (

@@ -93,6 +93,13 @@ pub enum Error {
     /// An output could not be written: Graphviz's `dot` is missing or failed, or the graph
     /// is too large to draw.
     Output(String),
+    /// A count or offset of the index would pass what its columns hold: `what` names it
+    /// ("input edges", "string bytes"), `limit` is the largest count allowed.
+    TooLarge { what: &'static str, limit: u64 },
+    /// An index file (`.foonidx`) that cannot be opened: corrupt, truncated, of another format
+    /// version, or written for another byte order. `reason` says what is wrong, naming the
+    /// column and byte offsets where they apply.
+    BadIndex { path: PathBuf, reason: String },
 }
 
 impl Error {
@@ -115,6 +122,28 @@ impl Error {
             path: path.to_path_buf(),
             source,
         }
+    }
+
+    /// `n` as a new `u32` id (the count of `what` before it is added), or
+    /// [`Error::TooLarge`] naming `what` when it does not fit below [`u32::MAX`] (which id
+    /// columns keep for "no value"): at most 4294967295 of anything.
+    pub fn check_id(n: usize, what: &'static str) -> Result<u32> {
+        u32::try_from(n)
+            .ok()
+            .filter(|&v| v < u32::MAX)
+            .ok_or(Self::TooLarge {
+                what,
+                limit: u64::from(u32::MAX),
+            })
+    }
+
+    /// `n` as a `u32` offset (the length of a column of `what`, at most [`u32::MAX`]), or
+    /// [`Error::TooLarge`] naming `what`.
+    pub fn check_offset(n: usize, what: &'static str) -> Result<u32> {
+        u32::try_from(n).map_err(|_| Self::TooLarge {
+            what,
+            limit: u64::from(u32::MAX),
+        })
     }
 
     /// The location of a parse error, if this is one.
@@ -156,6 +185,10 @@ impl fmt::Display for Error {
             ),
             Self::Invalid(msg) | Self::Output(msg) => f.write_str(msg),
             Self::Cancelled => f.write_str("cancelled"),
+            Self::TooLarge { what, limit } => {
+                write!(f, "too large: more than {limit} {what}")
+            }
+            Self::BadIndex { path, reason } => write!(f, "{}: {reason}", path.display()),
         }
     }
 }

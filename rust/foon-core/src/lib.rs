@@ -7,8 +7,10 @@
 //! (task trees for goals) → [`evaluate`] (a tree's metrics and validity, for search and
 //! verify) → [`write`](mod@write) (text back out). [`lint`] and [`verify`] check files with parse,
 //! prepare and evaluate, not with search; [`error`] is shared by all.
-#![forbid(unsafe_code)]
+// One `unsafe` block in the crate: mapping an index file read-only (`index::file`).
+#![deny(unsafe_code)]
 
+pub mod atomic;
 pub mod error;
 pub mod evaluate;
 mod forward;
@@ -26,7 +28,7 @@ pub mod verify;
 pub mod write;
 
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
-pub use index::{Foon, NONE, Stats};
+pub use index::{Foon, NONE, Report, Stats};
 pub use kitchen::Kitchen;
 pub use model::{MotionRates, ObjectSpec, check_rate};
 pub use parse::{

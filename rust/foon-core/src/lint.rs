@@ -148,7 +148,16 @@ pub fn lint_cancellable(
 
 fn graph_findings(foon: &Foon, path: Option<&Path>, opts: &LintOptions<'_>) -> Vec<Finding> {
     let mut out = Vec::new();
-    let at_fu = |f: u32| Location::new(path, u64::from(foon.fu_line(f)), 1);
+    // A unit is named by the file and line it was read from (for an index file: its source).
+    let at_fu = |f: u32| {
+        let source = foon.source_name(foon.fu_source(f));
+        let from = if source.is_empty() {
+            path
+        } else {
+            Some(Path::new(source))
+        };
+        Location::new(from, u64::from(foon.fu_line(f)), 1)
+    };
     let describe = |o: u32| crate::write::object_line(foon, o);
     let kitchen = opts.kitchen.unwrap_or(&[]);
     let Ok(prep) = Prepared::new(foon, kitchen, opts.utensils, None, None) else {
@@ -234,8 +243,21 @@ pub fn lint_file_cancellable(
     if cancel() {
         return Err(crate::Error::Cancelled);
     }
+    if crate::index::file::is_index_file(path) {
+        return Ok(lint_index(path, opts));
+    }
     let data = read_file(path)?;
     lint_cancellable(&data, Some(path), opts, cancel)
+}
+
+/// Checks an index file: it opens (header, bounds and structure), its checksum holds, and the
+/// graph checks of [`lint`] on its units (named by their source files and lines).
+fn lint_index(path: &Path, opts: &LintOptions<'_>) -> Vec<Finding> {
+    let foon = match Foon::open_index(path).and_then(|f| f.verify_checksum().map(|()| f)) {
+        Ok(f) => f,
+        Err(e) => return vec![from_error(e, Some(path))],
+    };
+    graph_findings(&foon, Some(path), opts)
 }
 
 /// Checks a motion table: every bad line is an error finding (code `syntax`; a motion with

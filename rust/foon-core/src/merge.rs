@@ -175,7 +175,7 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     }
     let mut seen = FxHashMap::default();
     for p in &out {
-        if let Some(first) = seen.insert(file_key(p)?, p) {
+        if let Some(first) = seen.insert(crate::atomic::file_key(p)?, p) {
             return Err(Error::Invalid(format!(
                 "{} is given twice (as {} and {})",
                 p.display(),
@@ -185,20 +185,6 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
         }
     }
     Ok(out)
-}
-
-/// What tells files apart: device and inode where there are such, else the canonical path.
-#[cfg(unix)]
-fn file_key(p: &Path) -> Result<(u64, u64, PathBuf)> {
-    use std::os::unix::fs::MetadataExt;
-    let m = std::fs::metadata(p).map_err(|e| Error::io(p, e))?;
-    Ok((m.dev(), m.ino(), PathBuf::new()))
-}
-
-#[cfg(not(unix))]
-fn file_key(p: &Path) -> Result<(u64, u64, PathBuf)> {
-    let c = std::fs::canonicalize(p).map_err(|e| Error::io(p, e))?;
-    Ok((0, 0, c))
 }
 
 /// Merges the files and folders `paths` (see [`expand_paths`]); `cancel` is asked now and then
@@ -228,8 +214,11 @@ pub fn merge_files_with(
         if cancel() {
             return Err(Error::Cancelled);
         }
-        let data = crate::parse::read_file(f)?;
-        read_source(&mut b, &data, f, opts, cancel)?;
+        let popts = ParseOptions {
+            strict: opts.strict,
+        };
+        let ctl = crate::parse::ParseControl::default();
+        crate::parse::load_into(&mut b, f, popts, None, cancel, ctl)?;
         if let Some(p) = progress {
             p.add(1);
         }
@@ -577,53 +566,23 @@ pub fn header_line(m: &Merged) -> String {
     )
 }
 
-/// Writes `text` to `out` atomically (a temporary file in the same folder, then a rename),
-/// refusing an output that is one of `inputs`.
+/// Writes `text` to `out` atomically (see [`crate::atomic`]), refusing an output that is one
+/// of `inputs`.
 pub fn write_atomic(out: &Path, text: &[u8], inputs: &[PathBuf]) -> Result<()> {
-    if let Ok(meta) = std::fs::metadata(out) {
-        if meta.is_dir() {
-            return Err(Error::Invalid(format!(
-                "{}: the output is a folder",
-                out.display()
-            )));
-        }
-        let target = file_key(out)?;
-        for i in inputs {
-            if file_key(i).is_ok_and(|k| k == target) {
-                return Err(Error::Invalid(format!(
-                    "{}: the output is one of the inputs; give another output file",
-                    out.display()
-                )));
-            }
-        }
-        if !meta.is_file() {
-            // A device or a FIFO (`/dev/stdout`): written into; a rename would replace it.
-            return std::fs::write(out, text).map_err(|e| Error::io(out, e));
-        }
-    }
-    let dir = out
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = out
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{}: not a file name", out.display())))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".tmp{}", std::process::id()));
-    let tmp = dir.join(tmp_name);
-    let result = std::fs::write(&tmp, text)
-        .and_then(|()| std::fs::rename(&tmp, out))
-        .map_err(|e| Error::io(out, e));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::atomic::write_atomic(out, &inputs, |w| crate::write::put(w, text))
 }
 
-/// Writes the merged FOON as text with provenance (see [`merged_text`]) to `out`, atomically,
-/// refusing an output that is one of the files read.
+/// Writes the merged FOON to `out`, atomically, refusing an output that is one of the files
+/// read: as text with provenance (see [`merged_text`]), or as an index file (provenance in its
+/// columns) when `out` ends in `.foonidx`.
 pub fn write_merged(m: &Merged, out: &Path) -> Result<()> {
+    if out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("foonidx"))
+    {
+        return m.foon.write_index_file(out);
+    }
     let text = merged_text(&m.foon, &header_line(m));
     write_atomic(out, text.as_bytes(), &m.inputs)
 }
@@ -768,8 +727,12 @@ impl Merged {
     }
 }
 
-/// Reads a file and parses it with [`parse_merged`].
+/// Reads a file and parses it with [`parse_merged`]; an index file is opened (its provenance is
+/// in its columns).
 pub fn load_merged(path: &Path, opts: ParseOptions) -> Result<Foon> {
+    if crate::index::file::is_index_file(path) {
+        return Foon::open_index(path); // its provenance is in its columns
+    }
     let data = crate::parse::read_file(path)?;
     parse_merged(&data, Some(path), opts)
 }

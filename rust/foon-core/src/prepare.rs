@@ -23,8 +23,8 @@ use crate::model::{MotionRates, ObjectSpec, check_rate};
 /// and choices; the shopping costs of explanations; the choices of `ids`) is computed on first
 /// use, once, in one pass over the FOON, and kept for every later plan of any thread.
 pub struct Prepared {
-    objects: usize,
-    fus: usize,
+    /// Content fingerprint of the FOON these inputs were prepared for.
+    foon: [u8; 16],
     in_kitchen: Vec<bool>,
     kitchen_objects: Vec<u32>,
     /// Needed inputs of each FU (container rule applied), in input order.
@@ -144,8 +144,7 @@ impl Prepared {
             .collect();
         let all_rated = fu_rate.iter().all(|r| !r.is_nan());
         Ok(Self {
-            objects: n,
-            fus: n_fu as usize,
+            foon: foon.fingerprint(),
             in_kitchen,
             kitchen_objects,
             needed,
@@ -161,7 +160,7 @@ impl Prepared {
 
     /// Errors when these inputs were prepared for another FOON than `foon`.
     pub(crate) fn check_foon(&self, foon: &Foon) -> Result<()> {
-        if self.objects != foon.object_count() || self.fus != foon.fu_count() {
+        if self.foon != foon.fingerprint() {
             return Err(Error::Invalid(
                 "these planning inputs were prepared for another FOON".into(),
             ));
@@ -316,6 +315,31 @@ mod tests {
             }
         }
         row
+    }
+
+    /// Planning inputs belong to the FOON they were prepared for: another FOON with the same
+    /// counts (one unit, two objects) is told apart by its content fingerprint.
+    #[test]
+    fn prepared_inputs_are_keyed_by_the_fingerprint() {
+        let a = parse_foon(
+            b"O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n",
+            None,
+            ParseOptions::default(),
+        )
+        .unwrap();
+        let b = parse_foon(
+            b"O\tegg\nS\twhole\nM\tboil\nO\tegg\nS\tboiled\n//\n",
+            None,
+            ParseOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(
+            (a.fu_count(), a.object_count()),
+            (b.fu_count(), b.object_count())
+        );
+        let prep = super::Prepared::new(&a, &[], &[], None, None).unwrap();
+        assert!(crate::search::Context::with(&a, &prep).is_ok());
+        assert!(crate::search::Context::with(&b, &prep).is_err());
     }
 
     /// The linear container rule gives the quadratic definition's needed inputs on random

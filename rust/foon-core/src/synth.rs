@@ -1508,45 +1508,9 @@ pub fn synth_to_path(
     write_atomic(path, |w| synth(opts, w, progress))
 }
 
-/// Runs `f` on a buffered temporary file beside `path`, then renames it to `path`; on
-/// any error the temporary file is removed and `path` is untouched.
+/// Runs `f` on a writer into `path`, atomically (see [`crate::atomic`]).
 pub fn write_atomic<T>(path: &Path, f: impl FnOnce(&mut dyn Write) -> Result<T>) -> Result<T> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => ".".into(),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .ok_or_else(|| Error::Invalid(format!("{} is not a file name", path.display())))?;
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let file = std::fs::File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
-    let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
-    let r = f(&mut w).and_then(|v| {
-        let file = w
-            .into_inner()
-            .map_err(|e| Error::io(path, e.into_error()))?;
-        file.sync_all().map_err(|e| Error::io(path, e))?;
-        Ok(v)
-    });
-    match r {
-        Ok(v) => {
-            std::fs::rename(&tmp, path).map_err(|e| {
-                let _ = std::fs::remove_file(&tmp);
-                Error::io(path, e)
-            })?;
-            Ok(v)
-        }
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(match e {
-                Error::Io { source, path: p } if p.as_os_str() == "<output>" => {
-                    Error::io(path, source)
-                }
-                other => other,
-            })
-        }
-    }
+    crate::atomic::write_atomic(path, &[], f)
 }
 
 /// The kitchen of the FOON `synth` makes with these options: every raw object but the

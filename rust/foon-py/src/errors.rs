@@ -79,6 +79,13 @@ impl From<PyFoonErr> for PyErr {
             E::Cancelled => PyKeyboardInterrupt::new_err("cancelled"),
             E::Invalid(_) => PyValueError::new_err(msg),
             E::Output(_) => OutputError::new_err(msg),
+            E::BadIndex { path, reason } => Python::attach(|py| {
+                let err = FoonError::new_err(msg);
+                let v = err.value(py);
+                let _ = v.setattr("path", path.display().to_string());
+                let _ = v.setattr("reason", reason);
+                err
+            }),
             _ => FoonError::new_err(msg),
         }
     }

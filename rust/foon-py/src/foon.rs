@@ -1,7 +1,7 @@
 //! `foon._foon.Foon`: a parsed FOON, immutable and shared between threads.
 
-use std::hash::{Hash, Hasher};
-use std::sync::{Arc, OnceLock};
+use std::path::PathBuf;
+use std::sync::Arc;
 
 use foon_core::ObjectSpec;
 use foon_core::{ParseOptions, verify, write};
@@ -15,13 +15,19 @@ use crate::convert::{
 use crate::errors::{Cancel, PyFoonErr, enter};
 use crate::serial;
 
-/// Reads a FOON file; the core's loader asks `cancel` now and then and stops on Ctrl-C.
+/// Reads a FOON file; the core's loader asks `cancel` now and then and stops on Ctrl-C, and
+/// counts the bytes read in `progress`.
 fn load_foon(
     path: &std::path::Path,
     opts: ParseOptions,
     cancel: Cancel<'_>,
+    progress: &foon_core::progress::Progress,
 ) -> foon_core::Result<foon_core::Foon> {
-    foon_core::parse::load_foon_cancellable(path, opts, cancel)
+    let ctl = foon_core::parse::ParseControl {
+        progress: Some(progress),
+        ..Default::default()
+    };
+    foon_core::parse::load_foon_with(path, opts, cancel, ctl)
 }
 
 /// Parses FOON text (see [`load_foon`] for `cancel`).
@@ -38,25 +44,45 @@ fn parse_foon(
 #[pyclass(frozen, module = "foon._foon", name = "Foon")]
 pub(crate) struct PyFoon {
     pub(crate) inner: Arc<foon_core::Foon>,
-    /// A hash of the serialised form, computed on first use.
-    fingerprint: OnceLock<u64>,
 }
 
 impl PyFoon {
     pub(crate) fn new(foon: foon_core::Foon) -> Self {
         Self {
             inner: Arc::new(foon),
-            fingerprint: OnceLock::new(),
         }
     }
 
-    fn fingerprint(&self) -> u64 {
-        *self.fingerprint.get_or_init(|| {
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            serial::encode(&self.inner).hash(&mut h);
-            h.finish()
-        })
+    /// The first 8 bytes of the content fingerprint, for `__hash__`.
+    fn hash_key(&self) -> u64 {
+        let fp = self.inner.fingerprint();
+        u64::from_le_bytes([fp[0], fp[1], fp[2], fp[3], fp[4], fp[5], fp[6], fp[7]])
     }
+}
+
+/// Builds one index from several FOON files (any dialect each), in the given order.
+fn load_sources(
+    paths: &[PathBuf],
+    opts: ParseOptions,
+    cancel: Cancel<'_>,
+    progress: &foon_core::progress::Progress,
+) -> foon_core::Result<foon_core::Foon> {
+    let files = foon_core::merge::expand_paths(paths)?;
+    let mut b = foon_core::index::Builder::new();
+    for p in &files {
+        if foon_core::index::file::is_index_file(p) {
+            return Err(foon_core::Error::Invalid(format!(
+                "{}: an index file cannot be a source of another index (give its FOON files)",
+                p.display()
+            )));
+        }
+        let ctl = foon_core::parse::ParseControl {
+            progress: Some(progress),
+            ..Default::default()
+        };
+        foon_core::parse::load_into(&mut b, p, opts, None, cancel, ctl)?;
+    }
+    b.try_finish()
 }
 
 /// Dropped duplicate units: (line of the dropped copy, index of the kept one).
@@ -69,13 +95,89 @@ type WarningTuple = (Option<String>, u64, u32, &'static str, String);
 impl PyFoon {
     /// Reads and parses a FOON file (any dialect).
     #[staticmethod]
-    #[pyo3(signature = (path, *, strict = false))]
-    fn load(py: Python<'_>, path: &Bound<'_, PyAny>, strict: bool) -> PyResult<Self> {
+    #[pyo3(signature = (path, *, strict = false, progress = false))]
+    fn load(
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        strict: bool,
+        progress: bool,
+    ) -> PyResult<Self> {
         let path = path_arg("path", path)?;
-        let foon = enter(py, |cancel| {
-            load_foon(&path, ParseOptions { strict }, cancel)
+        let foon = crate::progress::enter_progress(py, progress, true, |cancel, bar| {
+            load_foon(&path, ParseOptions { strict }, cancel, bar)
         })?;
         Ok(Self::new(foon))
+    }
+
+    /// Builds one index from several FOON files and folders (a folder: its `.txt` and `.json`
+    /// files, sorted), in the given order: an FU found again keeps its first copy and records
+    /// every (source, line) it was found at.
+    #[staticmethod]
+    #[pyo3(signature = (paths, *, strict = false, progress = false))]
+    fn load_sources(
+        py: Python<'_>,
+        paths: Vec<Bound<'_, PyAny>>,
+        strict: bool,
+        progress: bool,
+    ) -> PyResult<Self> {
+        let paths = paths
+            .iter()
+            .map(|p| path_arg("paths", p))
+            .collect::<PyResult<Vec<_>>>()?;
+        let foon = crate::progress::enter_progress(py, progress, true, |cancel, bar| {
+            load_sources(&paths, ParseOptions { strict }, cancel, bar)
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    /// Opens an index file again for unpickling: a clear error when the file is gone or its
+    /// content (fingerprint, as hexadecimal) is not the pickled one.
+    #[staticmethod]
+    fn reopen(py: Python<'_>, path: &Bound<'_, PyAny>, fingerprint: &str) -> PyResult<Self> {
+        let path = path_arg("path", path)?;
+        let want = fingerprint.to_owned();
+        let foon = enter(py, |_| {
+            let f = foon_core::Foon::open_index(&path)?;
+            let have = f.fingerprint_hex();
+            if have == want {
+                Ok(f)
+            } else {
+                Err(foon_core::Error::BadIndex {
+                    path: path.clone(),
+                    reason: format!(
+                        "the index file changed since the FOON was pickled \
+                         (fingerprint {want}, now {have})"
+                    ),
+                })
+            }
+        })?;
+        Ok(Self::new(foon))
+    }
+
+    /// Writes the index as a `.foonidx` file, atomically (never over one of its inputs).
+    fn write_index(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = path_arg("path", path)?;
+        let foon = &self.inner;
+        enter(py, |_| foon.write_index_file(&path))
+    }
+
+    /// Verifies the data checksum of a FOON opened from an index file (nothing to verify for
+    /// one built in memory).
+    fn verify_checksum(&self, py: Python<'_>) -> PyResult<()> {
+        let foon = &self.inner;
+        enter(py, |_| foon.verify_checksum())
+    }
+
+    /// The content fingerprint, as 32 hexadecimal digits.
+    #[getter]
+    fn fingerprint(&self) -> String {
+        self.inner.fingerprint_hex()
+    }
+
+    /// The index file this FOON was opened from, if any.
+    #[getter]
+    fn index_path(&self) -> Option<String> {
+        self.inner.index_path().map(|p| p.display().to_string())
     }
 
     /// Parses FOON text (`str` or `bytes`); `path` only names the source in messages.
@@ -95,7 +197,8 @@ impl PyFoon {
         Ok(Self::new(foon))
     }
 
-    /// The stable serialised form (what pickling stores).
+    /// The stable serialised form (what pickling stores for a FOON not opened from an index
+    /// file): its index bytes and its load report.
     fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         let foon = &self.inner;
         let data = enter(py, |_| Ok(serial::encode(foon)))?;
@@ -113,12 +216,20 @@ impl PyFoon {
         Ok(Self::new(foon))
     }
 
+    /// A FOON opened from an index file pickles as (path, fingerprint) and is opened again
+    /// when unpickled; any other pickles as its serialised form.
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let py = slf.py();
+        let me = slf.get();
+        if let Some(path) = me.inner.index_path() {
+            let f = slf.get_type().getattr("reopen")?;
+            let args = (path.display().to_string(), me.inner.fingerprint_hex());
+            return Ok((f, args.into_pyobject(py)?));
+        }
         let f = slf.get_type().getattr("from_bytes")?;
-        let data = slf.get().to_bytes(py)?;
+        let data = me.to_bytes(py)?;
         Ok((f, PyTuple::new(py, [data])?))
     }
 
@@ -139,12 +250,12 @@ impl PyFoon {
         };
         let o = o.get();
         Arc::ptr_eq(&self.inner, &o.inner)
-            || (self.fingerprint() == o.fingerprint()
+            || (self.inner.fingerprint() == o.inner.fingerprint()
                 && serial::encode(&self.inner) == serial::encode(&o.inner))
     }
 
     fn __hash__(&self) -> u64 {
-        self.fingerprint()
+        self.hash_key()
     }
 
     #[getter]

@@ -10,8 +10,8 @@ use pyo3::types::PyDict;
 
 use crate::convert::{fu_index, opt_path_arg, path_arg, text_bytes};
 use crate::errors::enter;
-use crate::progress::enter_progress;
 use crate::foon::PyFoon;
+use crate::progress::enter_progress;
 
 fn options(level: u8, min_support: u32, strict: bool) -> MergeOptions {
     MergeOptions {
@@ -62,14 +62,6 @@ pub(crate) fn merge_paths<'py>(
     let out = opt_path_arg("out", out)?;
     let opts = options(level, min_support, strict);
     let m = enter_progress(py, progress, false, |cancel, bar| {
-        if let Some(o) = &out {
-            if o.extension().is_some_and(|e| e == "foonidx") {
-                return Err(foon_core::Error::Invalid(format!(
-                    "{}: writing a .foonidx index is not available yet; write FOON text",
-                    o.display()
-                )));
-            }
-        }
         let m = merge::merge_files_with(&paths, opts, cancel, Some(bar))?;
         if let Some(o) = &out {
             merge::write_merged(&m, o)?;

@@ -1,14 +1,14 @@
-//! The stable serialised form of a parsed FOON, for pickling: its string table, its units with
-//! every object occurrence as written (so unit indices, object ids, lines and written orders
-//! come back as they were), the duplicates it dropped, and its warnings and notes. Rebuilt
-//! through the core's index builder, so every derived column is computed as on a load.
+//! The stable serialised form of a parsed FOON, for pickling: its index as `.foonidx` bytes
+//! (strings, objects, units with every object occurrence as written, lines, sources and
+//! provenance: unit indices and object ids come back as they were), then its load report
+//! (the duplicates it dropped, its warnings and notes), which an index file does not carry.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use foon_core::index::{Builder, RawObject};
-use foon_core::{Foon, Location, NONE, Warning, WarningKind};
+use foon_core::index::DuplicateFu;
+use foon_core::{Foon, Location, Report, Warning, WarningKind};
 
-const MAGIC: &[u8] = b"FOON-INDEX\x01";
+const MAGIC: &[u8] = b"FOON-PICKLE\x02";
 
 /// Every warning kind, by its code in the serialised form (the index in this list).
 const KINDS: [WarningKind; 9] = [
@@ -66,53 +66,21 @@ impl Out {
             None => self.u8(0),
         }
     }
-    fn ids(&mut self, ids: &[u32]) {
-        self.len(ids.len());
-        for &i in ids {
-            self.u32(i);
-        }
-    }
 }
 
 /// Serialises `foon` (see the module documentation).
 pub(crate) fn encode(foon: &Foon) -> Vec<u8> {
-    let mut o = Out(Vec::with_capacity(64 + foon.fu_count() * 64));
+    let index = foon.index_bytes();
+    let mut o = Out(Vec::with_capacity(index.len() + 64));
     o.0.extend_from_slice(MAGIC);
-    let source = foon.source().map(|p| p.to_string_lossy().into_owned());
-    o.opt_str(source.as_deref());
-    let strings = foon.strings();
-    o.len(strings.len());
-    for id in 0..strings.len() as u32 {
-        o.str(strings.text(id));
-    }
-    o.len(foon.fu_count());
-    for f in 0..foon.fu_count() as u32 {
-        o.u32(foon.motion(f));
-        let meta = foon
-            .motion_meta(f)
-            .and_then(|m| strings.get(m))
-            .unwrap_or(NONE);
-        o.u32(meta);
-        o.u32(foon.fu_line(f));
-        for (vars, in_motion) in [
-            (foon.input_variants(f), foon.input_in_motion(f)),
-            (foon.output_variants(f), foon.output_in_motion(f)),
-        ] {
-            o.len(vars.len());
-            for (k, &v) in vars.iter().enumerate() {
-                let obj = foon.variant_object(v);
-                o.u32(foon.label(obj));
-                o.u32(foon.container(obj));
-                o.u8(in_motion.get(k).copied().unwrap_or(0));
-                o.ids(foon.variant_states(v));
-                o.ids(foon.variant_ingredients(v));
-            }
-        }
-    }
+    o.u64(index.len() as u64);
+    o.0.extend_from_slice(&index);
+    drop(index);
     o.len(foon.duplicates().len());
     for d in foon.duplicates() {
         o.u32(d.line);
         o.u32(d.of);
+        o.u32(d.source);
     }
     for list in [foon.warnings(), foon.notes()] {
         o.len(list.len());
@@ -175,47 +143,6 @@ impl<'a> In<'a> {
             _ => Err("bad optional string".into()),
         }
     }
-    fn ids(&mut self) -> Res<Vec<u32>> {
-        let n = self.len()?;
-        (0..n).map(|_| self.u32()).collect()
-    }
-}
-
-/// One object occurrence as written.
-struct Occurrence {
-    label: u32,
-    container: u32,
-    in_motion: u8,
-    states: Vec<u32>,
-    ingredients: Vec<u32>,
-}
-
-impl Occurrence {
-    fn raw(&self) -> RawObject<'_> {
-        RawObject {
-            label: self.label,
-            states: &self.states,
-            ingredients: &self.ingredients,
-            container: self.container,
-            in_motion: self.in_motion,
-        }
-    }
-}
-
-struct Unit {
-    motion: u32,
-    meta: u32,
-    line: u32,
-    inputs: Vec<Occurrence>,
-    outputs: Vec<Occurrence>,
-}
-
-impl Unit {
-    fn add_to(&self, b: &mut Builder, line: u32) -> Result<u32, u32> {
-        let ins: Vec<RawObject<'_>> = self.inputs.iter().map(Occurrence::raw).collect();
-        let outs: Vec<RawObject<'_>> = self.outputs.iter().map(Occurrence::raw).collect();
-        b.add_fu(self.motion, self.meta, &ins, &outs, line)
-    }
 }
 
 /// Rebuilds a FOON from [`encode`]'s output.
@@ -224,75 +151,20 @@ pub(crate) fn decode(data: &[u8]) -> Res<Foon> {
     if r.take(MAGIC.len())? != MAGIC {
         return Err("not a serialised FOON of this version".into());
     }
-    let source = r.opt_str()?.map(PathBuf::from);
-    let mut b = Builder::new();
-    b.begin_source(source.as_deref());
-    let n_strings = r.len()?;
-    for id in 0..n_strings as u32 {
-        let s = r.str()?;
-        if b.intern(s) != id {
-            return Err("the string table repeats a string".into());
-        }
-    }
-    let check = |id: u32| -> Res<u32> {
-        if id == NONE || (id as usize) < n_strings {
-            Ok(id)
-        } else {
-            Err("a string id is out of range".into())
-        }
-    };
-    let n_fu = r.len()?;
-    let mut units = Vec::with_capacity(n_fu);
-    for _ in 0..n_fu {
-        let motion = check(r.u32()?)?;
-        let meta = check(r.u32()?)?;
-        let line = r.u32()?;
-        let mut sides = [Vec::new(), Vec::new()];
-        for side in &mut sides {
-            let n = r.len()?;
-            for _ in 0..n {
-                let label = check(r.u32()?)?;
-                let container = check(r.u32()?)?;
-                let in_motion = r.u8()?;
-                let states = r.ids()?;
-                let ingredients = r.ids()?;
-                for &s in states.iter().chain(&ingredients) {
-                    check(s)?;
-                }
-                side.push(Occurrence {
-                    label,
-                    container,
-                    in_motion,
-                    states,
-                    ingredients,
-                });
-            }
-        }
-        let [inputs, outputs] = sides;
-        units.push(Unit {
-            motion,
-            meta,
-            line,
-            inputs,
-            outputs,
-        });
-    }
-    for (i, u) in units.iter().enumerate() {
-        if u.add_to(&mut b, u.line) != Ok(i as u32) {
-            return Err("two units are the same".into());
-        }
-    }
-    // Duplicates come after every kept unit: they only add to the list of dropped copies.
+    let n = usize::try_from(r.u64()?).map_err(|_| "a count is larger than the data")?;
+    let index = r.take(n)?;
+    let mut foon =
+        Foon::from_index_bytes(index, Path::new("<pickle>")).map_err(|e| e.to_string())?;
+    let mut report = Report::default();
     let n_dup = r.len()?;
     for _ in 0..n_dup {
         let line = r.u32()?;
         let of = r.u32()?;
-        let u = units
-            .get(of as usize)
-            .ok_or("a duplicate of an unknown unit")?;
-        if u.add_to(&mut b, line) != Err(of) {
-            return Err("a duplicate is not a copy".into());
+        let source = r.u32()?;
+        if of as usize >= foon.fu_count() || source as usize >= foon.source_count() {
+            return Err("a duplicate of an unknown unit or source".into());
         }
+        report.duplicates.push(DuplicateFu { line, of, source });
     }
     for notes in [false, true] {
         let n = r.len()?;
@@ -310,14 +182,15 @@ pub(crate) fn decode(data: &[u8]) -> Res<Foon> {
                 message,
             };
             if notes {
-                b.note(w);
+                report.notes.push(w);
             } else {
-                b.warn(w);
+                report.warnings.push(w);
             }
         }
     }
     if !r.data.is_empty() {
         return Err("data after the end".into());
     }
-    Ok(b.finish())
+    foon.set_report(report);
+    Ok(foon)
 }

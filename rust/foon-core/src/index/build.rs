@@ -1,12 +1,13 @@
 //! Building a [`Foon`]: objects interned by identity and their written variants, FUs with
-//! duplicates dropped, then the producer and consumer lists.
+//! duplicates dropped, then the producer and consumer lists. Every count and offset is
+//! checked against the `u32` columns: the first one that would pass is kept as an
+//! [`Error::TooLarge`] and returned by [`Builder::try_finish`] (nothing more is added).
 
 use std::path::Path;
 
-use hashbrown::HashTable;
-
-use super::{Csr, DuplicateFu, Foon, NONE, fu_key_into, identity_hash, slice_hash};
-use crate::error::Warning;
+use super::hash::{Table, WordHasher, hash_words};
+use super::{Csr, DuplicateFu, Foon, NONE, fu_key_into, object_hash};
+use crate::error::{Error, Result, Warning};
 use crate::model::canonical_into;
 
 /// An object as written in a file, with its string ids in line order (before canonical
@@ -20,16 +21,23 @@ pub struct RawObject<'a> {
     pub in_motion: u8,
 }
 
-fn variant_hash(obj: u32, states: &[u32], ingredients: &[u32]) -> u64 {
-    identity_hash(obj, 0, states, ingredients)
+fn variant_hash(obj: u32, states: &[u32], ingredients: &[u32]) -> u32 {
+    let mut h = WordHasher::new();
+    h.word(obj);
+    h.word(states.len() as u32);
+    h.words(states);
+    h.words(ingredients);
+    h.finish()
 }
 
 /// Incremental construction of a [`Foon`]; used by the parser (and later by merging).
 #[derive(Debug, Default)]
 pub struct Builder {
     foon: Foon,
-    /// Variant ids hashed by (object, states and ingredients in written order).
-    variants: HashTable<u32>,
+    /// Variant ids, found by (object, states and ingredients in written order); the hash of
+    /// each variant is kept so that the table grows without rehashing rows.
+    var_hash: Vec<u32>,
+    var_table: Table,
     scratch: Vec<u32>,
     motion_seen: Vec<bool>,
     id_key: Vec<u32>,
@@ -42,6 +50,8 @@ pub struct Builder {
     current: u32,
     /// Further origins of kept FUs: (FU, source, line).
     also: Vec<(u32, u32, u32)>,
+    /// The first count that passed what the index holds.
+    fail: Option<Error>,
 }
 
 impl Builder {
@@ -61,14 +71,91 @@ impl Builder {
         b
     }
 
+    /// A builder with its tables and columns sized for about `fus` functional units (a hint:
+    /// the builder grows past it).
+    pub fn with_capacity(fus: usize) -> Self {
+        let mut b = Self::new();
+        let objects = fus + fus / 2;
+        let variants = fus * 2;
+        let strings = fus / 2;
+        let f = &mut b.foon;
+        let sized = f.strings.reserve(strings, strings * 16).is_ok()
+            && Table::with_capacity(objects).is_ok()
+            && Table::with_capacity(fus).is_ok()
+            && Table::with_capacity(variants).is_ok();
+        if !sized {
+            return b;
+        }
+        f.obj_table = Table::rebuild(&[], objects).unwrap_or_default();
+        f.fu_table = Table::rebuild(&[], fus).unwrap_or_default();
+        b.var_table = Table::rebuild(&[], variants).unwrap_or_default();
+        b.var_hash.reserve(variants);
+        for c in [
+            &mut f.obj_label,
+            &mut f.obj_container,
+            &mut f.obj_first_variant,
+            &mut f.obj_hash,
+        ] {
+            c.make_mut().reserve(objects);
+        }
+        f.var_obj.make_mut().reserve(variants);
+        for c in [
+            &mut f.fu_motion,
+            &mut f.fu_motion_meta,
+            &mut f.fu_line,
+            &mut f.fu_source,
+            &mut f.fu_hash,
+        ] {
+            c.make_mut().reserve(fus);
+        }
+        for c in [&mut f.fu_input_variant, &mut f.fu_output_variant] {
+            c.make_mut().reserve(fus * 3);
+        }
+        for c in [&mut f.fu_input_in_motion, &mut f.fu_output_in_motion] {
+            c.make_mut().reserve(fus * 3);
+        }
+        for (csr, rows, data) in [
+            (&mut f.fu_inputs, fus, fus * 3),
+            (&mut f.fu_outputs, fus, fus * 3),
+            (&mut f.obj_states, objects, objects),
+            (&mut f.obj_ingredients, objects, objects),
+            (&mut f.var_states, variants, variants),
+            (&mut f.var_ingredients, variants, variants),
+        ] {
+            csr.off.make_mut().reserve(rows + 1);
+            csr.data.make_mut().reserve(data);
+        }
+        b
+    }
+
+    /// A builder for a source of `bytes` bytes of FOON text (about 250 bytes per unit).
+    pub fn for_bytes(bytes: usize) -> Self {
+        Self::with_capacity(bytes / 250)
+    }
+
+    /// The first size error met, if any (see [`Builder::try_finish`]).
+    pub fn error(&self) -> Option<&Error> {
+        self.fail.as_ref()
+    }
+
+    fn failed(&mut self, e: Error) {
+        if self.fail.is_none() {
+            self.fail = Some(e);
+        }
+    }
+
     /// Starts a new source (a file, or text given in memory when `path` is `None`): the FUs
     /// added from now on come from it. Returns its id.
     pub fn begin_source(&mut self, path: Option<&Path>) -> u32 {
-        let id = self.foon.sources.len() as u32;
-        self.foon.sources.push(
-            path.map(|p| p.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-        );
+        let id = match Error::check_id(self.foon.sources.len(), "sources") {
+            Ok(id) => id,
+            Err(e) => {
+                self.failed(e);
+                return self.current;
+            }
+        };
+        let name = path.map(|p| p.to_string_lossy()).unwrap_or_default();
+        self.foon.sources.push(&name);
         self.current = id;
         id
     }
@@ -78,8 +165,16 @@ impl Builder {
         self.also.push((fu, source, line));
     }
 
+    /// The id of string `s`, added when new (0 once a size error is met, see
+    /// [`Builder::error`]).
     pub fn intern(&mut self, s: &str) -> u32 {
-        self.foon.strings.intern(s)
+        match self.foon.strings.try_intern(s) {
+            Ok(id) => id,
+            Err(e) => {
+                self.failed(e);
+                0
+            }
+        }
     }
 
     pub fn text(&self, id: u32) -> &str {
@@ -91,59 +186,59 @@ impl Builder {
     }
 
     /// Interns an object occurrence; returns `(object id, variant id)`.
-    fn object(&mut self, raw: &RawObject<'_>) -> (u32, u32) {
+    fn object(&mut self, raw: &RawObject<'_>) -> Result<(u32, u32)> {
         // Canonical form: states then ingredients, each sorted by id, in one scratch buffer.
         let key = &mut self.id_key;
         let ns = canonical_into(raw.states, raw.ingredients, key);
         let (states, ingredients) = key.split_at(ns);
         let f = &mut self.foon;
-        let obj = if let Some(o) = f.find_sorted(raw.label, states, ingredients, raw.container) {
+        let h = object_hash(raw.label, raw.container, states, ingredients);
+        let found = f.obj_table.find(h, &f.obj_hash, |o| {
+            f.obj_label[o as usize] == raw.label
+                && f.obj_container[o as usize] == raw.container
+                && f.obj_states.row(o) == states
+                && f.obj_ingredients.row(o) == ingredients
+        });
+        let obj = if let Some(o) = found {
             o
         } else {
-            let o = f.obj_label.len() as u32;
+            let o = Error::check_id(f.obj_label.len(), "objects")?;
+            f.obj_states.try_push_row(states, "object states")?;
+            f.obj_ingredients
+                .try_push_row(ingredients, "object ingredients")?;
             f.obj_label.push(raw.label);
             f.obj_container.push(raw.container);
-            f.obj_states.push_row(states);
-            f.obj_ingredients.push_row(ingredients);
             f.obj_first_variant.push(NONE);
-            let h = identity_hash(raw.label, raw.container, states, ingredients);
-            let (labels, conts, st, ing) = (
-                &f.obj_label,
-                &f.obj_container,
-                &f.obj_states,
-                &f.obj_ingredients,
-            );
-            f.identity.insert_unique(h, o, |&x| {
-                identity_hash(labels[x as usize], conts[x as usize], st.row(x), ing.row(x))
-            });
+            f.obj_hash.push(h);
+            f.obj_table.insert(h, o, &f.obj_hash)?;
             o
         };
         let vh = variant_hash(obj, raw.states, raw.ingredients);
         let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
-        let found = self.variants.find(vh, |&v| {
+        let found = self.var_table.find(vh, &self.var_hash, |v| {
             vo[v as usize] == obj && vs.row(v) == raw.states && vi.row(v) == raw.ingredients
         });
-        let var = if let Some(&v) = found {
+        let var = if let Some(v) = found {
             v
         } else {
-            let v = f.var_obj.len() as u32;
+            let v = Error::check_id(f.var_obj.len(), "object variants")?;
+            f.var_states.try_push_row(raw.states, "variant states")?;
+            f.var_ingredients
+                .try_push_row(raw.ingredients, "variant ingredients")?;
             f.var_obj.push(obj);
-            f.var_states.push_row(raw.states);
-            f.var_ingredients.push_row(raw.ingredients);
-            let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
-            self.variants.insert_unique(vh, v, |&x| {
-                variant_hash(vo[x as usize], vs.row(x), vi.row(x))
-            });
+            self.var_hash.push(vh);
+            self.var_table.insert(vh, v, &self.var_hash)?;
             v
         };
         if f.obj_first_variant[obj as usize] == NONE {
             f.obj_first_variant[obj as usize] = var;
         }
-        (obj, var)
+        Ok((obj, var))
     }
 
     /// Adds an FU; returns its index, or the index of the earlier equal FU when it is a
-    /// duplicate (`Err`), in which case it is recorded and dropped.
+    /// duplicate (`Err`), in which case it is recorded and dropped. Once a size error is met
+    /// (see [`Builder::error`]) nothing is added and the answer is `Err(NONE)`.
     pub fn add_fu(
         &mut self,
         motion: u32,
@@ -152,6 +247,26 @@ impl Builder {
         outputs: &[RawObject<'_>],
         line: u32,
     ) -> Result<u32, u32> {
+        if self.fail.is_some() {
+            return Err(NONE);
+        }
+        match self.try_add_fu(motion, motion_meta, inputs, outputs, line) {
+            Ok(r) => r,
+            Err(e) => {
+                self.failed(e);
+                Err(NONE)
+            }
+        }
+    }
+
+    fn try_add_fu(
+        &mut self,
+        motion: u32,
+        motion_meta: u32,
+        inputs: &[RawObject<'_>],
+        outputs: &[RawObject<'_>],
+        line: u32,
+    ) -> Result<Result<u32, u32>> {
         let mut in_ids = std::mem::take(&mut self.ins);
         let mut out_ids = std::mem::take(&mut self.outs);
         let mut in_vars = std::mem::take(&mut self.in_vars);
@@ -166,30 +281,47 @@ impl Builder {
         ] {
             v.clear();
         }
+        let result = self.add_fu_with(
+            motion,
+            motion_meta,
+            inputs,
+            outputs,
+            line,
+            [&mut in_ids, &mut out_ids, &mut in_vars, &mut out_vars],
+            &mut key,
+        );
+        self.ins = in_ids;
+        self.outs = out_ids;
+        self.in_vars = in_vars;
+        self.out_vars = out_vars;
+        self.fu_key = key;
+        result
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn add_fu_with(
+        &mut self,
+        motion: u32,
+        motion_meta: u32,
+        inputs: &[RawObject<'_>],
+        outputs: &[RawObject<'_>],
+        line: u32,
+        [in_ids, out_ids, in_vars, out_vars]: [&mut Vec<u32>; 4],
+        key: &mut Vec<u32>,
+    ) -> Result<Result<u32, u32>> {
         for raw in inputs {
-            let (o, v) = self.object(raw);
+            let (o, v) = self.object(raw)?;
             in_ids.push(o);
             in_vars.push(v);
         }
         for raw in outputs {
-            let (o, v) = self.object(raw);
+            let (o, v) = self.object(raw)?;
             out_ids.push(o);
             out_vars.push(v);
         }
-        fu_key_into(motion, &in_ids, &out_ids, &mut key);
-        let h = slice_hash(&key);
-        let f = &self.foon;
-        let scratch = &mut self.scratch;
-        let found = f.fu_identity.find(h, |&g| {
-            fu_key_into(
-                f.fu_motion[g as usize],
-                f.fu_inputs.row(g),
-                f.fu_outputs.row(g),
-                scratch,
-            );
-            *scratch == key
-        });
-        let result = if let Some(&first) = found {
+        fu_key_into(motion, in_ids, out_ids, key);
+        let h = hash_words(key);
+        if let Some(first) = self.foon.find_fu_key(key, h, &mut self.scratch) {
             let source = self.current;
             self.foon.report.duplicates.push(DuplicateFu {
                 line,
@@ -197,46 +329,35 @@ impl Builder {
                 source,
             });
             self.also.push((first, source, line));
-            Err(first)
-        } else {
-            let f = &mut self.foon;
-            let idx = f.fu_motion.len() as u32;
-            f.fu_motion.push(motion);
-            f.fu_motion_meta.push(motion_meta);
-            f.fu_line.push(line);
-            f.fu_source.push(self.current);
-            f.fu_inputs.push_row(&in_ids);
-            f.fu_outputs.push_row(&out_ids);
-            f.fu_input_variant.extend_from_slice(&in_vars);
-            f.fu_output_variant.extend_from_slice(&out_vars);
-            f.fu_input_in_motion
-                .extend(inputs.iter().map(|r| r.in_motion));
-            f.fu_output_in_motion
-                .extend(outputs.iter().map(|r| r.in_motion));
-            let (motions, ins, outs) = (&f.fu_motion, &f.fu_inputs, &f.fu_outputs);
-            // Rehashing (when the table grows) recomputes each key in one scratch buffer.
-            let k = std::cell::RefCell::new(Vec::new());
-            f.fu_identity.insert_unique(h, idx, |&x| {
-                let mut k = k.borrow_mut();
-                fu_key_into(motions[x as usize], ins.row(x), outs.row(x), &mut k);
-                slice_hash(&k)
-            });
-            let m = motion as usize;
-            if self.motion_seen.len() <= m {
-                self.motion_seen.resize(m + 1, false);
-            }
-            if !self.motion_seen[m] {
-                self.motion_seen[m] = true;
-                f.motions.push(motion);
-            }
-            Ok(idx)
-        };
-        self.ins = in_ids;
-        self.outs = out_ids;
-        self.in_vars = in_vars;
-        self.out_vars = out_vars;
-        self.fu_key = key;
-        result
+            return Ok(Err(first));
+        }
+        let f = &mut self.foon;
+        let idx = Error::check_id(f.fu_motion.len(), "functional units")?;
+        Error::check_offset(f.fu_inputs.data().len() + in_ids.len(), "input edges")?;
+        Error::check_offset(f.fu_outputs.data().len() + out_ids.len(), "output edges")?;
+        f.fu_inputs.try_push_row(in_ids, "input edges")?;
+        f.fu_outputs.try_push_row(out_ids, "output edges")?;
+        f.fu_motion.push(motion);
+        f.fu_motion_meta.push(motion_meta);
+        f.fu_line.push(line);
+        f.fu_source.push(self.current);
+        f.fu_input_variant.extend_from_slice(in_vars);
+        f.fu_output_variant.extend_from_slice(out_vars);
+        f.fu_input_in_motion
+            .extend(inputs.iter().map(|r| r.in_motion));
+        f.fu_output_in_motion
+            .extend(outputs.iter().map(|r| r.in_motion));
+        f.fu_hash.push(h);
+        f.fu_table.insert(h, idx, &f.fu_hash)?;
+        let m = motion as usize;
+        if self.motion_seen.len() <= m {
+            self.motion_seen.resize(m + 1, false);
+        }
+        if !self.motion_seen[m] {
+            self.motion_seen[m] = true;
+            f.motions.push(motion);
+        }
+        Ok(Ok(idx))
     }
 
     pub fn warn(&mut self, w: Warning) {
@@ -247,28 +368,33 @@ impl Builder {
         self.foon.report.notes.push(w);
     }
 
-    /// Finishes the index: builds producers (course rule), consumers and the provenance rows.
-    pub fn finish(self) -> Foon {
-        let mut f = self.foon;
-        if f.sources.is_empty() {
-            f.sources.push(String::new());
+    /// Finishes the index: builds producers (course rule), consumers and the provenance
+    /// rows, and lays the identity tables out at their canonical size. A size error met while
+    /// building is returned here.
+    pub fn try_finish(self) -> Result<Foon> {
+        if let Some(e) = self.fail {
+            return Err(e);
         }
-        let mut also = Csr::new();
-        let mut pairs = Vec::new();
+        let mut f = self.foon;
+        if f.sources.len() == 0 {
+            f.sources.push("");
+        }
+        let n_fu = f.fu_motion.len();
         let mut rest = self.also;
         rest.sort_by_key(|&(fu, _, _)| fu); // stable: each row keeps the reading order
+        let mut also = Csr::with_capacity(n_fu, rest.len() * 2);
+        let mut pairs = Vec::new();
         let mut it = rest.into_iter().peekable();
-        for fu in 0..f.fu_motion.len() as u32 {
+        for fu in 0..n_fu as u32 {
             pairs.clear();
             while let Some(&(_, s, l)) = it.peek().filter(|&&(g, _, _)| g == fu) {
                 pairs.extend([s, l]);
                 it.next();
             }
-            also.push_row(&pairs);
+            also.try_push_row(&pairs, "provenance entries")?;
         }
         f.fu_also = also;
         let n_obj = f.obj_label.len();
-        let n_fu = f.fu_motion.len() as u32;
         let outs = &f.fu_outputs;
         let bare: Vec<bool> = (0..n_obj as u32)
             .map(|o| {
@@ -278,18 +404,63 @@ impl Builder {
             })
             .collect();
         // An FU that outputs the same object twice is listed once as its producer.
-        let prod_pairs = (0..n_fu).flat_map(|fu| {
+        let prod_pairs = (0..n_fu as u32).flat_map(|fu| {
             let row = outs.row(fu);
             row.iter()
                 .enumerate()
                 .filter(|&(k, &o)| !bare[o as usize] && !row[..k].contains(&o))
                 .map(move |(_, &o)| (o, fu))
         });
-        f.producers = Csr::from_pairs(n_obj, prod_pairs);
+        f.producers = Csr::try_from_pairs(n_obj, prod_pairs, "producer entries")?;
         let ins = &f.fu_inputs;
-        let cons_pairs = (0..n_fu).flat_map(|fu| ins.row(fu).iter().map(move |&o| (o, fu)));
-        f.consumers = Csr::from_pairs(n_obj, cons_pairs);
-        f
+        let cons_pairs = (0..n_fu as u32).flat_map(|fu| ins.row(fu).iter().map(move |&o| (o, fu)));
+        f.consumers = Csr::try_from_pairs(n_obj, cons_pairs, "input edges")?;
+        f.strings.finish()?;
+        f.obj_table = Table::rebuild(&f.obj_hash, 0)?;
+        f.fu_table = Table::rebuild(&f.fu_hash, 0)?;
+        for c in [
+            &mut f.obj_label,
+            &mut f.obj_container,
+            &mut f.obj_first_variant,
+            &mut f.obj_hash,
+            &mut f.var_obj,
+            &mut f.fu_motion,
+            &mut f.fu_motion_meta,
+            &mut f.fu_line,
+            &mut f.fu_input_variant,
+            &mut f.fu_output_variant,
+            &mut f.motions,
+            &mut f.fu_hash,
+            &mut f.fu_source,
+        ] {
+            c.shrink_to_fit();
+        }
+        f.fu_input_in_motion.shrink_to_fit();
+        f.sources.text.shrink_to_fit();
+        f.sources.ends.shrink_to_fit();
+        f.fu_output_in_motion.shrink_to_fit();
+        for c in [
+            &mut f.obj_states,
+            &mut f.obj_ingredients,
+            &mut f.var_states,
+            &mut f.var_ingredients,
+            &mut f.fu_inputs,
+            &mut f.fu_outputs,
+        ] {
+            c.shrink_to_fit();
+        }
+        Ok(f)
+    }
+
+    /// As [`Builder::try_finish`], for callers that cannot meet a size error: past the
+    /// limits of the columns (4294967295 objects, input edges, ...), the index built so far,
+    /// with no units.
+    pub fn finish(self) -> Foon {
+        self.try_finish().unwrap_or_else(|_| {
+            let mut b = Builder::new();
+            b.begin_source(None);
+            b.try_finish().unwrap_or_default()
+        })
     }
 }
 

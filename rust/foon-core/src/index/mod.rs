@@ -1,26 +1,33 @@
 //! The compact, immutable index of a FOON: interned strings, an object table keyed by
-//! identity, and CSR arrays (flat offset + data vectors of `u32`) for FU inputs, FU outputs,
-//! producers and consumers. Every array is a plain vector of integers, so the layout is
-//! position independent and can later be written to disk and memory-mapped as it is. This
-//! module holds the [`Foon`] and its look-ups; [`Builder`] makes one.
+//! identity, and CSR arrays (flat offset + data columns of `u32`) for FU inputs, FU outputs,
+//! producers and consumers, with flat identity tables (see [`hash`]). Every column is a
+//! [`Col`]: a plain run of little-endian integers, owned or borrowed from a memory-mapped
+//! `.foonidx` file ([`file`](mod@file)), so the layout is position independent and the same search
+//! code runs on both. This module holds the [`Foon`] and its look-ups; [`Builder`] makes one.
 
 mod build;
+mod col;
 mod csr;
+pub mod file;
+pub mod hash;
 mod interner;
 
-use std::sync::OnceLock;
+use std::path::Path;
+use std::sync::{Arc, OnceLock};
 
-use std::hash::Hasher;
-
-use hashbrown::HashTable;
-use rustc_hash::{FxHashSet, FxHasher};
+use rustc_hash::FxHashSet;
 
 use crate::error::{Error, Result, Warning};
 use crate::model::{ObjectSpec, canonical_into};
 
 pub use build::{Builder, RawObject};
+pub use col::Col;
 pub use csr::Csr;
+pub use hash::Table;
 pub use interner::Interner;
+
+use hash::{WordHasher, hash_words};
+use interner::StrList;
 
 /// "No value" in a `u32` column (no container, no metadata).
 pub const NONE: u32 = u32::MAX;
@@ -52,43 +59,50 @@ pub struct Report {
 pub struct Foon {
     pub(crate) strings: Interner,
     // Objects, by id: canonical identity (states and ingredients sorted by string id).
-    pub(crate) obj_label: Vec<u32>,
-    pub(crate) obj_container: Vec<u32>,
+    pub(crate) obj_label: Col<u32>,
+    pub(crate) obj_container: Col<u32>,
     pub(crate) obj_states: Csr,
     pub(crate) obj_ingredients: Csr,
-    pub(crate) obj_first_variant: Vec<u32>,
+    pub(crate) obj_first_variant: Col<u32>,
+    /// Identity hash of each object (see [`object_hash`]) and the table that finds them.
+    pub(crate) obj_hash: Col<u32>,
+    pub(crate) obj_table: Table,
     // Variants: an object as written somewhere (its own state and ingredient order).
-    pub(crate) var_obj: Vec<u32>,
+    pub(crate) var_obj: Col<u32>,
     pub(crate) var_states: Csr,
     pub(crate) var_ingredients: Csr,
     // FUs, by index (file order after dropping faulty and duplicate FUs).
-    pub(crate) fu_motion: Vec<u32>,
-    pub(crate) fu_motion_meta: Vec<u32>,
-    pub(crate) fu_line: Vec<u32>,
+    pub(crate) fu_motion: Col<u32>,
+    pub(crate) fu_motion_meta: Col<u32>,
+    pub(crate) fu_line: Col<u32>,
     pub(crate) fu_inputs: Csr,
     pub(crate) fu_outputs: Csr,
-    pub(crate) fu_input_variant: Vec<u32>,
-    pub(crate) fu_output_variant: Vec<u32>,
-    pub(crate) fu_input_in_motion: Vec<u8>,
-    pub(crate) fu_output_in_motion: Vec<u8>,
+    pub(crate) fu_input_variant: Col<u32>,
+    pub(crate) fu_output_variant: Col<u32>,
+    pub(crate) fu_input_in_motion: Col<u8>,
+    pub(crate) fu_output_in_motion: Col<u8>,
     // Adjacency.
     pub(crate) producers: Csr,
     pub(crate) consumers: Csr,
-    pub(crate) motions: Vec<u32>,
-    /// Object ids, hashed by identity (see [`identity_hash`]).
-    pub(crate) identity: HashTable<u32>,
-    /// FU indices, hashed by FU identity (see [`fu_key_into`]).
-    pub(crate) fu_identity: HashTable<u32>,
+    pub(crate) motions: Col<u32>,
+    /// Identity hash of each FU (of its key, see [`fu_key_into`]) and the table that finds them.
+    pub(crate) fu_hash: Col<u32>,
+    pub(crate) fu_table: Table,
     // Provenance: the sources read (paths, or "" for text given in memory), the source of
     // each FU's kept copy (its line is `fu_line`), and every other (source, line) where the
     // same FU was found, as pairs in one row per FU.
-    pub(crate) sources: Vec<String>,
-    pub(crate) fu_source: Vec<u32>,
+    pub(crate) sources: StrList,
+    pub(crate) fu_source: Col<u32>,
     pub(crate) fu_also: Csr,
     /// The load report (not part of the index).
     pub(crate) report: Report,
     /// Labels that some object has with the state `empty` (computed on first use).
     pub(crate) empty_labels: OnceLock<FxHashSet<u32>>,
+    /// The content fingerprint (read from the header of an index file, else computed on
+    /// first use).
+    pub(crate) fingerprint: OnceLock<[u8; 16]>,
+    /// The index file this FOON was opened from, if any.
+    pub(crate) file: Option<Arc<file::Opened>>,
 }
 
 /// Counts shown by `foon stats`.
@@ -124,11 +138,10 @@ impl Foon {
     }
 
     /// The file the FOON was read from: its first source, when that was a file.
-    pub fn source(&self) -> Option<&std::path::Path> {
-        self.sources
-            .first()
+    pub fn source(&self) -> Option<&Path> {
+        Some(self.sources.get(0))
             .filter(|s| !s.is_empty())
-            .map(std::path::Path::new)
+            .map(Path::new)
     }
 
     /// Number of sources the index was built from.
@@ -138,7 +151,7 @@ impl Foon {
 
     /// The path of source `id` as given when it was read (`""` for text given in memory).
     pub fn source_name(&self, id: u32) -> &str {
-        self.sources.get(id as usize).map_or("", String::as_str)
+        self.sources.get(id as usize)
     }
 
     /// Source of FU `fu`'s kept copy (its line is [`Foon::fu_line`]).
@@ -171,6 +184,35 @@ impl Foon {
     /// The load report: warnings, notes and dropped duplicates.
     pub fn report(&self) -> &Report {
         &self.report
+    }
+
+    /// Replaces the load report (a FOON rebuilt from its index bytes gets its report back).
+    pub fn set_report(&mut self, report: Report) {
+        self.report = report;
+    }
+
+    /// The index file this FOON was opened from ([`Foon::open_index`]), if any.
+    pub fn index_path(&self) -> Option<&Path> {
+        self.file.as_ref().and_then(|f| f.path.as_deref())
+    }
+
+    /// The content fingerprint: XXH3-128 over every content column of the index (strings,
+    /// objects, variants, FUs, adjacency, sources and provenance; not the identity tables,
+    /// which follow from them, and not the load report). Equal for the same content whether
+    /// the index was built from text or opened from a file, where it is read from the header.
+    pub fn fingerprint(&self) -> [u8; 16] {
+        *self.fingerprint.get_or_init(|| file::fingerprint_of(self))
+    }
+
+    /// The fingerprint as 32 lowercase hexadecimal digits.
+    pub fn fingerprint_hex(&self) -> String {
+        use std::fmt::Write as _;
+        self.fingerprint()
+            .iter()
+            .fold(String::with_capacity(32), |mut s, b| {
+                let _ = write!(s, "{b:02x}");
+                s
+            })
     }
 
     pub fn warnings(&self) -> &[Warning] {
@@ -331,12 +373,10 @@ impl Foon {
         ingredients: &[u32],
         container: u32,
     ) -> Option<u32> {
-        let h = identity_hash(label, container, states, ingredients);
-        self.identity
-            .find(h, |&o| {
-                self.same_object(o, label, states, ingredients, container)
-            })
-            .copied()
+        let h = object_hash(label, container, states, ingredients);
+        self.obj_table.find(h, &self.obj_hash, |o| {
+            self.same_object(o, label, states, ingredients, container)
+        })
     }
 
     fn same_object(
@@ -347,8 +387,8 @@ impl Foon {
         ingredients: &[u32],
         container: u32,
     ) -> bool {
-        self.obj_label[o as usize] == label
-            && self.obj_container[o as usize] == container
+        self.obj_label.get(o as usize) == Some(&label)
+            && self.obj_container.get(o as usize) == Some(&container)
             && self.obj_states.row(o) == states
             && self.obj_ingredients.row(o) == ingredients
     }
@@ -391,7 +431,7 @@ impl Foon {
             return Vec::new();
         };
         (0..self.object_count() as u32)
-            .filter(|&o| self.obj_label[o as usize] == l)
+            .filter(|&o| self.obj_label.get(o as usize) == Some(&l))
             .collect()
     }
 
@@ -401,18 +441,20 @@ impl Foon {
     pub fn find_fu(&self, motion: u32, inputs: &[u32], outputs: &[u32]) -> Option<u32> {
         let mut key = Vec::new();
         fu_key_into(motion, inputs, outputs, &mut key);
-        let mut scratch = Vec::new();
-        self.fu_identity
-            .find(slice_hash(&key), |&g| {
-                fu_key_into(
-                    self.fu_motion[g as usize],
-                    self.inputs(g),
-                    self.outputs(g),
-                    &mut scratch,
-                );
-                scratch == key
-            })
-            .copied()
+        self.find_fu_key(&key, hash_words(&key), &mut Vec::new())
+    }
+
+    /// The FU whose identity key ([`fu_key_into`]) is `key`, hashed `h`.
+    pub(crate) fn find_fu_key(&self, key: &[u32], h: u32, scratch: &mut Vec<u32>) -> Option<u32> {
+        self.fu_table.find(h, &self.fu_hash, |g| {
+            fu_key_into(
+                self.fu_motion.get(g as usize).copied().unwrap_or(NONE),
+                self.inputs(g),
+                self.outputs(g),
+                scratch,
+            );
+            *scratch == key
+        })
     }
 
     /// The goal object for a spec: the object with its identity, or
@@ -465,16 +507,7 @@ impl Foon {
         let produced = (0..self.object_count() as u32)
             .filter(|&o| !self.producers(o).is_empty())
             .count();
-        let index_bytes = self.fu_inputs.heap_bytes()
-            + self.fu_outputs.heap_bytes()
-            + self.producers.heap_bytes()
-            + self.consumers.heap_bytes()
-            + self.obj_states.heap_bytes()
-            + self.obj_ingredients.heap_bytes()
-            + (self.obj_label.capacity() + self.obj_container.capacity()) * 4
-            + (self.fu_motion.capacity() + self.fu_line.capacity()) * 4
-            + self.strings.heap_bytes()
-            + (self.identity.capacity() + self.fu_identity.capacity()) * 5;
+        let index_bytes = self.columns().iter().map(file::ColRef::heap_bytes).sum();
         Stats {
             functional_units: self.fu_count(),
             objects: self.object_count(),
@@ -490,20 +523,15 @@ impl Foon {
     }
 }
 
-/// Hash of an object identity: label, container, states and ingredients (each sorted by id).
-pub(crate) fn identity_hash(
-    label: u32,
-    container: u32,
-    states: &[u32],
-    ingredients: &[u32],
-) -> u64 {
-    let mut h = FxHasher::default();
-    h.write_u32(label);
-    h.write_u32(container);
-    h.write_usize(states.len());
-    for &x in states.iter().chain(ingredients) {
-        h.write_u32(x);
-    }
+/// Identity hash of an object: [`hash_words`] of `[label, container, number of states,
+/// states..., ingredients...]`, states and ingredients each sorted by id.
+pub(crate) fn object_hash(label: u32, container: u32, states: &[u32], ingredients: &[u32]) -> u32 {
+    let mut h = WordHasher::new();
+    h.word(label);
+    h.word(container);
+    h.word(states.len() as u32);
+    h.words(states);
+    h.words(ingredients);
     h.finish()
 }
 
@@ -518,12 +546,4 @@ pub(super) fn fu_key_into(motion: u32, inputs: &[u32], outputs: &[u32], key: &mu
     let s = key.len();
     key.extend_from_slice(outputs);
     key[s..].sort_unstable();
-}
-
-pub(super) fn slice_hash(key: &[u32]) -> u64 {
-    let mut h = FxHasher::default();
-    for &x in key {
-        h.write_u32(x);
-    }
-    h.finish()
 }

@@ -122,6 +122,8 @@ impl foon::Source<'static> for FileWindows<'_> {
     fn next_window(&mut self) -> Result<Option<Cow<'static, [u8]>>> {
         let mut w = std::mem::take(&mut self.carry);
         let mut want = self.window;
+        // The carried bytes hold no line end: only what is read after them is searched.
+        let mut searched = w.len();
         loop {
             if !self.ended {
                 self.ended = read_up_to(&mut self.file, self.path, &mut w, want)?;
@@ -129,11 +131,13 @@ impl foon::Source<'static> for FileWindows<'_> {
             if self.ended {
                 return Ok((!w.is_empty()).then_some(Cow::Owned(w)));
             }
-            if let Some(i) = memchr::memrchr(b'\n', &w) {
+            if let Some(i) = memchr::memrchr(b'\n', &w[searched..]) {
+                let i = searched + i;
                 self.carry = w[i + 1..].to_vec();
                 w.truncate(i + 1);
                 return Ok(Some(Cow::Owned(w)));
             }
+            searched = w.len();
             // One line longer than a window: read on to its end.
             want = w.len().saturating_add(self.window);
         }
@@ -176,9 +180,9 @@ fn parse_any(
     errors: Option<&mut Vec<Error>>,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Foon> {
-    let mut b = Builder::new();
+    let mut b = Builder::for_bytes(data.len());
     parse_into(&mut b, data, path, opts, errors, cancel)?;
-    Ok(b.finish())
+    b.try_finish()
 }
 
 /// Parses one source (FOON text, or the lab's JSON when its first non-blank byte is `[` or
@@ -311,16 +315,36 @@ pub fn load_into(
     r
 }
 
-/// Reads a file and parses it (see [`load_into`]): the file is read as it is parsed.
+/// Reads a FOON file: an index file (`.foonidx`, told by its magic) is mapped; text or JSON is
+/// parsed (see [`load_into`]: a regular file is read as it is parsed), progress as `ctl` says.
 pub fn load_foon_with(
     path: &Path,
     opts: ParseOptions,
     cancel: &(dyn Fn() -> bool + Sync),
     ctl: ParseControl<'_>,
 ) -> Result<Foon> {
-    let mut b = Builder::new();
-    load_into(&mut b, path, opts, None, cancel, ctl)?;
-    Ok(b.finish())
+    if cancel() {
+        return Err(Error::Cancelled);
+    }
+    // A regular file is probed for the index magic, then read as it is parsed; a pipe is read
+    // once and its bytes tell.
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_file() {
+        if crate::index::file::is_index_file(path) {
+            return Foon::open_index(path);
+        }
+        let mut b = Builder::for_bytes(usize::try_from(meta.len()).unwrap_or(usize::MAX));
+        load_into(&mut b, path, opts, None, cancel, ctl)?;
+        return b.try_finish();
+    }
+    let data = read_file(path)?;
+    if crate::index::file::is_index(&data) {
+        return Foon::from_index_bytes(&data, path);
+    }
+    let mut b = Builder::for_bytes(data.len());
+    parse_into_with(&mut b, &data, Some(path), opts, None, cancel, ctl)?;
+    drop(data);
+    b.try_finish()
 }
 
 /// Parses FOON text, going on after malformed lines: each error is collected and the unit it
@@ -368,15 +392,13 @@ pub fn load_foon(path: &Path, opts: ParseOptions) -> Result<Foon> {
 }
 
 /// As [`load_foon`], calling `cancel` every few thousand lines (see
-/// [`parse_foon_cancellable`]).
+/// [`parse_foon_cancellable`]). A file that starts with the index magic is opened as a
+/// `.foonidx` index ([`Foon::open_index`]: memory-mapped, whatever its name); text and JSON
+/// are parsed into a builder sized from the file's length.
 pub fn load_foon_cancellable(
     path: &Path,
     opts: ParseOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Foon> {
-    if cancel() {
-        return Err(Error::Cancelled);
-    }
-    let data = read_file(path)?;
-    parse_foon_cancellable(&data, Some(path), opts, cancel)
+    load_foon_with(path, opts, cancel, ParseControl::default())
 }
