@@ -438,10 +438,7 @@ fn writing_over_an_input_is_refused() {
     std::fs::write(&src, "O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n").unwrap();
     let f = load_foon(&src, ParseOptions::default()).unwrap();
     let e = f.write_index_file(&src).unwrap_err().to_string();
-    assert!(
-        e.contains("refusing to write the index over one of its inputs"),
-        "{e}"
-    );
+    assert!(e.contains("the output is one of the inputs"), "{e}");
     let idx = d.join("a.foonidx");
     f.write_index_file(&idx).unwrap();
     let g = load_foon(&idx, ParseOptions::default()).unwrap();
