@@ -53,6 +53,8 @@ def fmt_n(n: int) -> str:
 
 
 def fmt_s(s: float) -> str:
+    if s < 1e-3:
+        return f"{s * 1e6:.0f} µs"
     return f"{s * 1000:.1f} ms" if s < 1 else f"{s:.2f} s"
 
 
