@@ -708,10 +708,12 @@ fn read_window(w: &[u8], chunk: usize, path: Option<&Path>) -> Vec<(usize, usize
         ranges.push((pos, end));
         pos = end;
     }
-    ranges
-        .into_par_iter()
-        .map(|(s, e)| (s, e, read_chunk(&w[s..e], path)))
-        .collect()
+    let read = |(s, e): (usize, usize)| (s, e, read_chunk(&w[s..e], path));
+    if ranges.len() == 1 {
+        // One chunk (a small file): read here, without handing it to the thread pool.
+        return ranges.into_iter().map(read).collect();
+    }
+    ranges.into_par_iter().map(read).collect()
 }
 
 /// Parses FOON text into `b` (one source) from the windows of `source`: errors are collected in
@@ -756,15 +758,18 @@ pub(super) fn parse_stream<'d>(
         } else {
             source.next_window()?
         };
-        let (fed, next) = rayon::join(
-            || -> Result<()> {
-                for (s, e, c) in &chunks {
-                    feeder.chunk(b, &w[*s..*e], c)?;
-                }
-                Ok(())
-            },
-            || read(next),
-        );
+        let mut feed = || -> Result<()> {
+            for (s, e, c) in &chunks {
+                feeder.chunk(b, &w[*s..*e], c)?;
+            }
+            Ok(())
+        };
+        // The next window is read while this one feeds the index; the last one feeds alone.
+        let (fed, next) = if next.is_some() {
+            rayon::join(feed, || read(next))
+        } else {
+            (feed(), None)
+        };
         fed?;
         current = next;
     }
