@@ -7,21 +7,11 @@ use std::path::{Path, PathBuf};
 
 use foon_core::InputKind;
 use foon_core::parse::{load_objects, load_utensils};
-use foon_core::search::{Compat, Context, Count, Method, Plan, Query};
+use foon_core::search::Context;
 use foon_core::{Error, Foon, ObjectSpec, ParseOptions, load_foon, parse_foon, write};
 
-fn shared() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
-    if p.join("data/foon/FOON.txt").is_file() {
-        return Some(p);
-    }
-    assert!(
-        std::env::var_os("FOON_REQUIRE_DATA").is_none(),
-        "FOON_REQUIRE_DATA is set but ../shared/data/foon is missing"
-    );
-    eprintln!("skipped: ../shared/data/foon (the real FOON data) is not beside the repository");
-    None
-}
+mod common;
+use common::{all_plans, shared};
 
 /// A scratch folder of this test process.
 fn scratch(name: &str) -> PathBuf {
@@ -49,29 +39,6 @@ fn data_files(d: &Path) -> Vec<PathBuf> {
         files.extend(v);
     }
     files
-}
-
-fn plans(ctx: &Context<'_>, goals: &[u32]) -> Vec<(Query, u32, Result<Plan, String>)> {
-    let mut out = Vec::new();
-    for method in Method::ALL {
-        for compat in [Compat::Sound, Compat::Course] {
-            for count in [Count::Nodes, Count::Ingredients] {
-                let q = Query {
-                    method,
-                    compat,
-                    count,
-                };
-                for &g in goals {
-                    let p = ctx.plan(g, q).map(|mut p| {
-                        p.seconds = 0.0;
-                        p
-                    });
-                    out.push((q, g, p.map_err(|e| e.to_string())));
-                }
-            }
-        }
-    }
-    out
 }
 
 /// Goals spread over the FOON: up to `n` produced objects, evenly spaced.
@@ -145,7 +112,12 @@ fn every_data_file_round_trips_and_plans_the_same() {
         let goals = spread_goals(&text, if k == 0 { 60 } else { 6 });
         let a = Context::new(&text, &kitchen, &utensils, None, Some(0.9)).unwrap();
         let b = Context::new(&mapped, &kitchen, &utensils, None, Some(0.9)).unwrap();
-        assert_eq!(plans(&a, &goals), plans(&b, &goals), "{}", path.display());
+        assert_eq!(
+            all_plans(&a, &goals),
+            all_plans(&b, &goals),
+            "{}",
+            path.display()
+        );
         opened += 1;
     }
     assert!(opened > 300, "only {opened} FOON files loaded");
@@ -345,7 +317,7 @@ fn exercise(f: &Foon, kitchen: &[ObjectSpec]) {
     let _ = f.verify_checksum();
     if let Ok(ctx) = Context::new(f, kitchen, &[], None, Some(0.5)) {
         let goals: Vec<u32> = (0..f.object_count() as u32).step_by(3).collect();
-        let _ = plans(&ctx, &goals);
+        let _ = all_plans(&ctx, &goals);
     }
 }
 

@@ -12,6 +12,9 @@ use foon_core::progress::Progress;
 use foon_core::{Error, ParseOptions};
 use proptest::prelude::*;
 
+mod common;
+use common::shared;
+
 /// Everything a parse gives, as text: the index (its `Debug` form holds every column), and
 /// the errors.
 fn outcome(data: &[u8], path: Option<&Path>, strict: bool, recover: bool, chunk: usize) -> String {
@@ -76,19 +79,6 @@ fn check_all(data: &[u8], path: Option<&Path>, chunks: &[usize]) {
     }
 }
 
-fn shared() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/foon");
-    if p.is_dir() {
-        return Some(p);
-    }
-    assert!(
-        std::env::var_os("FOON_REQUIRE_DATA").is_none(),
-        "FOON_REQUIRE_DATA is set but ../shared/data/foon is missing"
-    );
-    eprintln!("skipped: ../shared/data/foon (the real FOON data) is not beside the repository");
-    None
-}
-
 fn files(dir: &Path, out: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
@@ -106,7 +96,9 @@ fn files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 #[test]
 fn every_data_file_parses_the_same_in_any_chunks() {
-    let Some(dir) = shared() else { return };
+    let Some(dir) = shared().map(|s| s.join("data/foon")) else {
+        return;
+    };
     let mut all = Vec::new();
     files(&dir, &mut all);
     assert!(all.len() > 100);
@@ -130,7 +122,9 @@ fn every_data_file_parses_the_same_in_any_chunks() {
 
 #[test]
 fn the_course_foon_is_the_same_on_one_thread_and_on_several() {
-    let Some(dir) = shared() else { return };
+    let Some(dir) = shared().map(|s| s.join("data/foon")) else {
+        return;
+    };
     let p = dir.join("FOON.txt");
     let data = std::fs::read(&p).unwrap();
     let run = |threads: usize| {
@@ -146,7 +140,9 @@ fn the_course_foon_is_the_same_on_one_thread_and_on_several() {
 
 #[test]
 fn progress_counts_the_bytes_of_the_input() {
-    let Some(dir) = shared() else { return };
+    let Some(dir) = shared().map(|s| s.join("data/foon")) else {
+        return;
+    };
     let p = dir.join("FOON.txt");
     let data = std::fs::read(&p).unwrap();
     for from_file in [false, true] {

@@ -3,25 +3,14 @@
 //! (it is always present in CI, where `FOON_REQUIRE_DATA=1` turns the skip into a failure).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
 
 use foon_core::InputKind;
 use foon_core::parse::{load_objects, load_rates, load_utensils};
 use foon_core::search::{Compat, Context, Count, Method, Query};
 use foon_core::{ParseOptions, load_foon, write};
 
-fn shared() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared");
-    if p.join("data/foon/FOON.txt").is_file() {
-        return Some(p);
-    }
-    assert!(
-        std::env::var_os("FOON_REQUIRE_DATA").is_none(),
-        "FOON_REQUIRE_DATA is set but ../shared/data/foon is missing"
-    );
-    eprintln!("skipped: ../shared/data/foon (the real FOON data) is not beside the repository");
-    None
-}
+mod common;
+use common::{all_plans, shared};
 
 #[test]
 fn course_foon_counts() {
@@ -66,34 +55,6 @@ fn course_golden_outputs() {
             assert_eq!(text, want, "{dir}/{name}");
         }
     }
-}
-
-/// Every method and form on the course data, as a map from (method, compat, count, goal) to
-/// the plan (time zeroed; `Err` as its message).
-fn all_plans(
-    ctx: &Context<'_>,
-    goals: &[u32],
-) -> Vec<(Query, u32, Result<foon_core::search::Plan, String>)> {
-    let mut out = Vec::new();
-    for method in Method::ALL {
-        for compat in [Compat::Sound, Compat::Course] {
-            for count in [Count::Nodes, Count::Ingredients] {
-                let q = Query {
-                    method,
-                    compat,
-                    count,
-                };
-                for &g in goals {
-                    let plan = ctx.plan(g, q).map(|mut p| {
-                        p.seconds = 0.0;
-                        p
-                    });
-                    out.push((q, g, plan.map_err(|e| e.to_string())));
-                }
-            }
-        }
-    }
-    out
 }
 
 #[test]
