@@ -298,8 +298,25 @@ impl Kitchen {
             Some(c) => get(c)?,
             None => NONE,
         };
-        let s: Option<Vec<u32>> = spec.states.iter().map(|s| get(s)).collect();
-        let g: Option<Vec<u32>> = spec.ingredients.iter().map(|s| get(s)).collect();
+        self.find_mapped(
+            label,
+            container,
+            spec.states.iter().map(|s| get(s)),
+            spec.ingredients.iter().map(|s| get(s)),
+        )
+    }
+
+    /// The index of the item with this identity, its fields already string ids of `self`
+    /// (`None` for a string `self` does not have: then no item has it).
+    fn find_mapped(
+        &self,
+        label: u32,
+        container: u32,
+        states: impl Iterator<Item = Option<u32>>,
+        ingredients: impl Iterator<Item = Option<u32>>,
+    ) -> Option<usize> {
+        let s: Option<Vec<u32>> = states.collect();
+        let g: Option<Vec<u32>> = ingredients.collect();
         let mut key = Vec::new();
         let ns = canonical_into(&s?, &g?, &mut key);
         let (st, ing) = key.split_at(ns);
@@ -331,17 +348,11 @@ impl Kitchen {
             c => map(c)?,
         };
         let (s, g) = from.ids(i);
-        let s: Option<Vec<u32>> = s.iter().map(|&x| map(x)).collect();
-        let g: Option<Vec<u32>> = g.iter().map(|&x| map(x)).collect();
-        let mut key = Vec::new();
-        let ns = canonical_into(&s?, &g?, &mut key);
-        let (st, ing) = key.split_at(ns);
-        self.find_ids(
-            id_hash(label, container, st, ing),
+        self.find_mapped(
             label,
             container,
-            st,
-            ing,
+            s.iter().map(|&x| map(x)),
+            g.iter().map(|&x| map(x)),
         )
     }
 
