@@ -213,32 +213,64 @@ pub fn parse_into_with(
     cancel: &(dyn Fn() -> bool + Sync),
     ctl: ParseControl<'_>,
 ) -> Result<()> {
+    if json::is_json(data) {
+        b.begin_source(path);
+        if let Some(p) = ctl.progress {
+            p.begin("parse", data.len() as u64);
+        }
+        let r = json::parse_impl(b, data, path, opts, errors, cancel);
+        if let (Some(p), true) = (ctl.progress, r.is_ok()) {
+            p.finish();
+        }
+        return r;
+    }
+    let text = lines::strip_bom(data);
+    let mut windows = foon::InMemory {
+        data: text,
+        window: ctl.window(),
+    };
+    let bom = data.len() - text.len();
+    text_into(
+        b,
+        &mut windows,
+        path,
+        opts,
+        errors,
+        cancel,
+        ctl,
+        (data.len() as u64, bom),
+    )
+}
+
+/// Parses FOON text from the windows of `source` into `b` as one new source, counting
+/// progress in bytes: `size` is (bytes in all, 0 when unknown; bytes of a byte-order mark
+/// already dropped).
+#[allow(clippy::too_many_arguments)]
+fn text_into(
+    b: &mut Builder,
+    source: &mut dyn foon::Source<'_>,
+    path: Option<&Path>,
+    opts: ParseOptions,
+    errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
+    ctl: ParseControl<'_>,
+    (total, bom): (u64, usize),
+) -> Result<()> {
     b.begin_source(path);
     if let Some(p) = ctl.progress {
-        p.begin("parse", data.len() as u64);
+        p.begin("parse", total);
+        p.add(bom as u64);
     }
-    let r = if json::is_json(data) {
-        json::parse_impl(b, data, path, opts, errors, cancel)
-    } else {
-        let text = lines::strip_bom(data);
-        if let Some(p) = ctl.progress {
-            p.add((data.len() - text.len()) as u64);
-        }
-        let mut windows = foon::InMemory {
-            data: text,
-            window: ctl.window(),
-        };
-        foon::parse_stream(
-            b,
-            &mut windows,
-            path,
-            opts,
-            errors,
-            cancel,
-            ctl.progress,
-            ctl.chunk(),
-        )
-    };
+    let r = foon::parse_stream(
+        b,
+        source,
+        path,
+        opts,
+        errors,
+        cancel,
+        ctl.progress,
+        ctl.chunk(),
+    );
     if let (Some(p), true) = (ctl.progress, r.is_ok()) {
         p.finish();
     }
@@ -283,14 +315,7 @@ pub fn load_into(
         }
         return parse_into_with(b, &head, Some(path), opts, errors, cancel, ctl);
     }
-    b.begin_source(Some(path));
-    if let Some(p) = ctl.progress {
-        p.begin("parse", size);
-    }
     let bom = head.len() - lines::strip_bom(&head).len();
-    if let Some(p) = ctl.progress {
-        p.add(bom as u64);
-    }
     head.drain(..bom);
     let mut windows = FileWindows {
         file,
@@ -299,20 +324,16 @@ pub fn load_into(
         window: ctl.window(),
         ended,
     };
-    let r = foon::parse_stream(
+    text_into(
         b,
         &mut windows,
         Some(path),
         opts,
         errors,
         cancel,
-        ctl.progress,
-        ctl.chunk(),
-    );
-    if let (Some(p), true) = (ctl.progress, r.is_ok()) {
-        p.finish();
-    }
-    r
+        ctl,
+        (size, bom),
+    )
 }
 
 /// Reads a FOON file: an index file (`.foonidx`, told by its magic) is mapped; text or JSON is
