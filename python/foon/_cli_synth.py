@@ -13,7 +13,6 @@ from foon.cli import UsageError
 TYPE_CHECKING = False
 if TYPE_CHECKING:
     import argparse
-    from collections.abc import Callable
 
 
 def _nonnegative(text: str) -> int:
@@ -57,25 +56,10 @@ def add_synth_options(sp: argparse.ArgumentParser) -> None:
     sp.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
 
-def _bar(quiet: bool) -> Callable[[int, int], None] | None:
-    """A progress bar on stderr when it is a terminal (none with -q, in CI, TERM=dumb)."""
-    from foon._progress import wanted
-
-    if not wanted(quiet):
-        return None
-
-    def show(done: int, total: int) -> None:
-        width = 30
-        full = width * done // max(total, 1)
-        end = "\n" if done >= total else ""
-        sys.stderr.write(f"\rsynth [{'#' * full}{'.' * (width - full)}] {done:,}/{total:,}{end}")
-        sys.stderr.flush()
-
-    return show
-
-
 def cmd_synth(args: argparse.Namespace) -> int:
     """Writes the FOON (atomically, or to stdout), then the side files asked for."""
+    from foon._progress import wanted
+
     names = [p for p in (args.kitchen, args.goals, args.motions) if p is not None]
     if any(p == "-" for p in names):
         raise UsageError("--kitchen, --goals and --motions need file names, not '-'")
@@ -85,13 +69,9 @@ def cmd_synth(args: argparse.Namespace) -> int:
     threads = None if args.threads in (None, 0) else args.threads
     if args.out == "-":
         sys.stdout.flush()
-        _foon.synth_write(args.units, args.seed, None, threads, None)
-    elif is_stream(args.out):  # a device or a FIFO: written into, never replaced
-        _foon.synth_write(args.units, args.seed, args.out, threads, None, True)
-    else:
-        _synth.synth(
-            args.units, args.seed, path=args.out, threads=threads, progress=_bar(args.quiet)
-        )
+    # Written atomically; a device or a FIFO is written into, never replaced.
+    path = None if args.out == "-" else args.out
+    _foon.synth_write(args.units, args.seed, path, threads, None, wanted(args.quiet))
     for what, path in (("kitchen", args.kitchen), ("goals", args.goals), ("motions", args.motions)):
         if path is not None:
             _foon.synth_side(args.units, args.seed, what, args.goal_count, path)

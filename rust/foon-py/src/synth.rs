@@ -6,6 +6,7 @@ use foon_core::synth::{self, SynthOptions};
 use pyo3::prelude::*;
 
 use crate::convert::{ObjTuple, opt_path_arg, threads_arg, tuple_of};
+use crate::progress::enter_progress;
 use crate::errors::enter;
 
 fn options(units: &Bound<'_, PyAny>, seed: u64, threads: Option<usize>) -> PyResult<SynthOptions> {
@@ -45,12 +46,11 @@ pub(crate) fn synth_text(
     Ok(String::from_utf8(bytes).unwrap_or_default())
 }
 
-/// Writes the FOON to `path` atomically (`None`: standard output; `stream`: written into
-/// `path` as it is, for a device or a FIFO); returns (units, bytes, recipes).
-/// `progress(done, total)` is called after each batch of units.
+/// Writes the FOON to `path` (`None`: standard output) through the core's atomic writer (a
+/// device or a FIFO is written into); returns (units, bytes, recipes). `progress(done,
+/// total)` is called after each batch of units; `bar` draws a progress bar on stderr.
 #[pyfunction]
-#[pyo3(signature = (units, seed, path = None, threads = None, progress = None, stream = false))]
-#[allow(clippy::fn_params_excessive_bools)]
+#[pyo3(signature = (units, seed, path = None, threads = None, progress = None, bar = false))]
 pub(crate) fn synth_write(
     py: Python<'_>,
     units: &Bound<'_, PyAny>,
@@ -58,13 +58,16 @@ pub(crate) fn synth_write(
     path: Option<&Bound<'_, PyAny>>,
     threads: Option<&Bound<'_, PyAny>>,
     progress: Option<Py<PyAny>>,
-    stream: bool,
+    bar: bool,
 ) -> PyResult<(u64, u64, u64)> {
     let opts = options(units, seed, threads_arg(threads)?)?;
     let path = opt_path_arg("path", path)?;
     let broken = std::sync::atomic::AtomicBool::new(false);
-    let r = enter(py, |cancel| {
+    let r = enter_progress(py, bar, false, |cancel, counter| {
+        counter.begin("synth", opts.units);
         let mut tick = |done: u64, total: u64| {
+            counter.set_total(total);
+            counter.add(done.saturating_sub(counter.done()));
             if let Some(f) = &progress {
                 Python::attach(|py| {
                     let _ = f.call1(py, (done, total));
@@ -72,17 +75,7 @@ pub(crate) fn synth_write(
             }
             !cancel()
         };
-        if let Some(p) = path.as_ref().filter(|_| stream) {
-            let f = std::fs::OpenOptions::new()
-                .write(true)
-                .open(p)
-                .map_err(|e| foon_core::Error::io(p, e))?;
-            let mut w = std::io::BufWriter::with_capacity(1 << 20, f);
-            synth::synth(&opts, &mut w, &mut tick).map_err(|e| match e {
-                foon_core::Error::Io { source, .. } => foon_core::Error::io(p, source),
-                other => other,
-            })
-        } else if let Some(p) = &path {
+        if let Some(p) = &path {
             synth::synth_to_path(&opts, p, &mut tick)
         } else {
             let stdout = std::io::stdout();
