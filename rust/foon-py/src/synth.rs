@@ -6,8 +6,8 @@ use foon_core::synth::{self, SynthOptions};
 use pyo3::prelude::*;
 
 use crate::convert::{ObjTuple, opt_path_arg, threads_arg, tuple_of};
-use crate::progress::enter_progress;
 use crate::errors::enter;
+use crate::progress::enter_progress;
 
 fn options(units: &Bound<'_, PyAny>, seed: u64, threads: Option<usize>) -> PyResult<SynthOptions> {
     // Out-of-range sizes reach the core, whose message names the bounds.
