@@ -36,13 +36,22 @@
 //!
 //! [`Foon::open_index`] maps the file read-only and checks, in time linear in the number of
 //! columns, the header, the header checksum and that every column lies inside the file with
-//! the element size of its id. It then checks in parallel the invariants that the search code
-//! relies on, so that no later access can panic: CSR offsets start at 0, never decrease and
-//! end at the data length; every id is in range (or "no value" where allowed); tables have a
+//! the element size of its id. It then checks the invariants that the search code relies on,
+//! so that no later access can panic: CSR offsets start at 0, never decrease and end at the
+//! data length; every id is in range (or "no value" where allowed); tables have a
 //! power-of-two size, an empty slot and entries in range; string ends increase, fall on UTF-8
-//! boundaries and the text is UTF-8. The data checksum is verified on request
-//! ([`Foon::verify_checksum`]). Any failure is an [`Error::BadIndex`] naming the file and
-//! what is wrong. The file carries the index only (columns, strings, sources and provenance),
+//! boundaries and the text is UTF-8; producers and consumers are exactly the relation the FU
+//! rows give (each row in order, and equal multisets of (object, FU) pairs from both sides,
+//! compared by keyed 64-bit sums with a key random per process). These checks are one pass
+//! over the columns, split in chunks of 2^18 elements shared by the cores; each scan is a
+//! branch-free maximum or comparison (the position is looked for only in a failing chunk) and
+//! cannot panic on any bytes, so all run at once, and the first failure in a fixed order is
+//! reported. The per-column hashes and the unit lines are not read at all. The data checksum
+//! is verified on request ([`Foon::verify_checksum`]; `foon check` does). Any failure is an
+//! [`Error::BadIndex`] naming the file and what is wrong; `foon check` reports it as
+//! `FILE: error: REASON [bad-index]` (a finding about the whole file has line and column 0
+//! in `--json` and in `foon.check`, and no `:LINE:COLUMN` when printed). The file carries the
+//! index only (columns, strings, sources and provenance),
 //! not the load report: a FOON opened from a file has an empty report.
 //!
 //! A mapped file must not be changed while it is open (replace it by renaming a new file over
