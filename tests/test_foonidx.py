@@ -237,3 +237,36 @@ def test_cli_index_builds_one_index_from_many_sources(tmp_path: Path) -> None:
         run_index(str(empty), "-o", str(tmp_path / "e.foonidx"))
     leftovers = [n for n in os.listdir(tmp_path) if n.endswith(".tmp")]
     assert leftovers == []
+
+
+def test_check_names_a_corrupt_index_file_without_a_fake_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from foon.cli import main
+
+    f = foon.Foon.from_text("O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n")
+    good = tmp_path / "good.foonidx"
+    f.write_index(good)
+    data = good.read_bytes()
+    cut = tmp_path / "cut.foonidx"
+    cut.write_bytes(data[:-8])
+    # A flipped letter of the data: the index opens, the checksum check of `foon check` fails.
+    start = struct.unpack_from("<Q", data, 56)[0]
+    text_at = data.index(b"crack", start)
+    sum_bad = tmp_path / "sum.foonidx"
+    sum_bad.write_bytes(data[:text_at] + b"Crack" + data[text_at + 5 :])
+    for p, why in ((cut, "truncated: the header says"), (sum_bad, "checksum mismatch")):
+        (finding,) = foon.check(p)
+        assert (finding.path, finding.line, finding.column) == (str(p), 0, 0)
+        assert (finding.severity, finding.code) == ("error", "bad-index")
+        assert finding.message.startswith(why), finding.message
+        assert str(finding) == f"{p}: error: {finding.message} [bad-index]"
+        assert main(["check", str(p)]) == 1
+        out = capsys.readouterr().out
+        assert out == f"{p}: error: {finding.message} [bad-index]\n", out
+    # A good index has no findings; a text file's findings keep their line and column.
+    assert foon.check(good) == []
+    txt = tmp_path / "a.txt"
+    txt.write_text("O\tegg\nS\twhole\nO\tegg\nS\tcracked\n//\n")
+    assert all(str(x).startswith(f"{txt}:{x.line}:{x.column}: ") for x in foon.check(txt))
+    assert all(x.line > 0 for x in foon.check(txt))

@@ -1411,10 +1411,9 @@ class Finding(_Frozen):
         )
 
     def __str__(self) -> str:
-        return (
-            f"{self.path or '<string>'}:{self.line}:{self.column}: {self.severity}: "
-            f"{self.message} [{self.code}]"
-        )
+        # Line 0: a finding about the file as a whole (a corrupt index file, an I/O error).
+        at = f"{self.path or '<string>'}" + (f":{self.line}:{self.column}" if self.line else "")
+        return f"{at}: {self.severity}: {self.message} [{self.code}]"
 
 
 def check(

@@ -62,12 +62,21 @@ fn is_object_list(data: &[u8]) -> bool {
     objects
 }
 
+/// A finding from an error. An error about the file as a whole (a corrupt index, an I/O
+/// error) has no line: its location is line 0, column 0, which is shown as `FILE: message`.
 fn from_error(e: Error, path: Option<&Path>) -> Finding {
     match e {
         Error::Parse { at, reason, .. } => Finding {
             at,
             severity: Severity::Error,
             code: "syntax",
+            message: reason,
+        },
+        // The file is the location: the message is the reason alone.
+        Error::BadIndex { path: bad, reason } => Finding {
+            at: Location::new(Some(path.unwrap_or(&bad)), 0, 0),
+            severity: Severity::Error,
+            code: "bad-index",
             message: reason,
         },
         other => Finding {

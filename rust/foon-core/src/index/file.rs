@@ -36,13 +36,22 @@
 //!
 //! [`Foon::open_index`] maps the file read-only and checks, in time linear in the number of
 //! columns, the header, the header checksum and that every column lies inside the file with
-//! the element size of its id. It then checks in parallel the invariants that the search code
-//! relies on, so that no later access can panic: CSR offsets start at 0, never decrease and
-//! end at the data length; every id is in range (or "no value" where allowed); tables have a
+//! the element size of its id. It then checks the invariants that the search code relies on,
+//! so that no later access can panic: CSR offsets start at 0, never decrease and end at the
+//! data length; every id is in range (or "no value" where allowed); tables have a
 //! power-of-two size, an empty slot and entries in range; string ends increase, fall on UTF-8
-//! boundaries and the text is UTF-8. The data checksum is verified on request
-//! ([`Foon::verify_checksum`]). Any failure is an [`Error::BadIndex`] naming the file and
-//! what is wrong. The file carries the index only (columns, strings, sources and provenance),
+//! boundaries and the text is UTF-8; producers and consumers are exactly the relation the FU
+//! rows give (each row in order, and equal multisets of (object, FU) pairs from both sides,
+//! compared by keyed 64-bit sums with a key random per process). These checks are one pass
+//! over the columns, split in chunks of 2^18 elements shared by the cores; each scan is a
+//! branch-free maximum or comparison (the position is looked for only in a failing chunk) and
+//! cannot panic on any bytes, so all run at once, and the first failure in a fixed order is
+//! reported. The per-column hashes and the unit lines are not read at all. The data checksum
+//! is verified on request ([`Foon::verify_checksum`]; `foon check` does). Any failure is an
+//! [`Error::BadIndex`] naming the file and what is wrong; `foon check` reports it as
+//! `FILE: error: REASON [bad-index]` (a finding about the whole file has line and column 0
+//! in `--json` and in `foon.check`, and no `:LINE:COLUMN` when printed). The file carries the
+//! index only (columns, strings, sources and provenance),
 //! not the load report: a FOON opened from a file has an empty report.
 //!
 //! A mapped file must not be changed while it is open (replace it by renaming a new file over
@@ -54,7 +63,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use xxhash_rust::xxh3::{Xxh3, xxh3_64};
 
 use super::col::{Backing, Col};
@@ -554,12 +564,47 @@ fn open_backing(backing: &Arc<Backing>, path: Option<&Path>, name: &Path) -> Res
     Ok(foon)
 }
 
-type Check<'a> = Box<dyn Fn() -> std::result::Result<(), String> + Sync + 'a>;
+type Res = std::result::Result<(), String>;
+
+/// Elements a part of a column check covers (1 MiB of `u32`): large columns are split so
+/// that the cores share them evenly.
+const CHUNK: usize = 1 << 18;
+
+/// One check of the structure, run as `parts` independent parts (part `k` covers the chunk
+/// [`chunk_range`] gives for `k`).
+struct Job<'a> {
+    parts: u32,
+    work: Box<dyn Fn(u32) -> Res + Sync + 'a>,
+}
+
+impl<'a> Job<'a> {
+    fn one(work: impl Fn() -> Res + Sync + 'a) -> Self {
+        Self {
+            parts: 1,
+            work: Box::new(move |_| work()),
+        }
+    }
+
+    /// A check of `len` elements in chunks: `work(range)` for each chunk.
+    fn chunked(len: usize, work: impl Fn(Range<usize>) -> Res + Sync + 'a) -> Self {
+        Self {
+            parts: len.div_ceil(CHUNK).max(1) as u32,
+            work: Box::new(move |k| work(chunk_range(len, k))),
+        }
+    }
+}
+
+fn chunk_range(len: usize, k: u32) -> Range<usize> {
+    let lo = (k as usize).saturating_mul(CHUNK).min(len);
+    lo..lo.saturating_add(CHUNK).min(len)
+}
 
 /// The lengths every column must have, then the invariants the search code relies on
-/// (module documentation), scanned in parallel. The first failing check (in a fixed order)
-/// is reported.
-fn validate(f: &Foon) -> std::result::Result<(), String> {
+/// (module documentation): every column scan and the adjacency check, split in chunks and
+/// run in one parallel pass. Each scan is written so that it cannot panic on any bytes
+/// (the adjacency reads rows through ids that other parts of the pass check), and the first
+/// failure in a fixed order (the order of the jobs, then of their parts) is reported.
+fn validate(f: &Foon) -> Res {
     let n_str = f.strings.len();
     let n_obj = f.object_count();
     let n_var = f.var_obj.len();
@@ -567,7 +612,7 @@ fn validate(f: &Foon) -> std::result::Result<(), String> {
     let n_src = f.sources.len();
     let names: Vec<&str> = COLUMNS.iter().map(|c| c.0).collect();
     let cols = f.columns();
-    let want_len = |name: &str, want: usize| -> std::result::Result<(), String> {
+    let want_len = |name: &str, want: usize| -> Res {
         let k = names.iter().position(|&n| n == name).unwrap_or(0);
         let have = cols[k].len();
         if have == want {
@@ -612,89 +657,156 @@ fn validate(f: &Foon) -> std::result::Result<(), String> {
             ));
         }
     }
-    let checks: Vec<Check<'_>> = vec![
-        Box::new(|| strings("str", &f.strings.list.text, &f.strings.list.ends)),
-        Box::new(|| strings("src", &f.sources.text, &f.sources.ends)),
-        Box::new(|| csr("obj_states", &f.obj_states.off, f.obj_states.data.len())),
-        Box::new(|| {
-            csr(
-                "obj_ingredients",
-                &f.obj_ingredients.off,
-                f.obj_ingredients.data.len(),
-            )
-        }),
-        Box::new(|| csr("var_states", &f.var_states.off, f.var_states.data.len())),
-        Box::new(|| {
-            csr(
-                "var_ingredients",
-                &f.var_ingredients.off,
-                f.var_ingredients.data.len(),
-            )
-        }),
-        Box::new(|| csr("fu_inputs", &f.fu_inputs.off, f.fu_inputs.data.len())),
-        Box::new(|| csr("fu_outputs", &f.fu_outputs.off, f.fu_outputs.data.len())),
-        Box::new(|| csr("producers", &f.producers.off, f.producers.data.len())),
-        Box::new(|| csr("consumers", &f.consumers.off, f.consumers.data.len())),
-        Box::new(|| csr("fu_also", &f.fu_also.off, f.fu_also.data.len())),
-        Box::new(|| ids("obj_label", &f.obj_label, n_str, false)),
-        Box::new(|| ids("obj_container", &f.obj_container, n_str, true)),
-        Box::new(|| ids("obj_states", &f.obj_states.data, n_str, false)),
-        Box::new(|| ids("obj_ingredients", &f.obj_ingredients.data, n_str, false)),
-        Box::new(|| ids("obj_first_variant", &f.obj_first_variant, n_var, false)),
-        Box::new(|| ids("var_obj", &f.var_obj, n_obj, false)),
-        Box::new(|| ids("var_states", &f.var_states.data, n_str, false)),
-        Box::new(|| ids("var_ingredients", &f.var_ingredients.data, n_str, false)),
-        Box::new(|| ids("fu_motion", &f.fu_motion, n_str, false)),
-        Box::new(|| ids("fu_motion_meta", &f.fu_motion_meta, n_str, true)),
-        Box::new(|| ids("fu_inputs", &f.fu_inputs.data, n_obj, false)),
-        Box::new(|| ids("fu_outputs", &f.fu_outputs.data, n_obj, false)),
-        Box::new(|| ids("fu_input_variant", &f.fu_input_variant, n_var, false)),
-        Box::new(|| ids("fu_output_variant", &f.fu_output_variant, n_var, false)),
-        Box::new(|| flags("fu_input_in_motion", &f.fu_input_in_motion)),
-        Box::new(|| flags("fu_output_in_motion", &f.fu_output_in_motion)),
-        Box::new(|| ids("producers", &f.producers.data, n_fu, false)),
-        Box::new(|| ids("consumers", &f.consumers.data, n_fu, false)),
-        Box::new(|| ids("motions", &f.motions, n_str, false)),
-        Box::new(|| ids("fu_source", &f.fu_source, n_src, false)),
-        Box::new(|| also(&f.fu_also.data, n_src)),
-        Box::new(|| table("str_table", &f.strings.table.slots, n_str)),
-        Box::new(|| table("obj_table", &f.obj_table.slots, n_obj)),
-        Box::new(|| table("fu_table", &f.fu_table.slots, n_fu)),
+    if f.fu_also.data.len() % 2 != 0 {
+        return Err("column fu_also has an odd length (it holds (source, line) pairs)".into());
+    }
+    for (name, slots, n) in [
+        ("str_table", &f.strings.table.slots, n_str),
+        ("obj_table", &f.obj_table.slots, n_obj),
+        ("fu_table", &f.fu_table.slots, n_fu),
+    ] {
+        table_size(name, slots, n)?;
+    }
+    let empties = [
+        AtomicBool::new(f.strings.table.slots.is_empty()),
+        AtomicBool::new(f.obj_table.slots.is_empty()),
+        AtomicBool::new(f.fu_table.slots.is_empty()),
     ];
-    run_all(&checks)?;
-    // Then the adjacency (it reads rows through the ids checked above).
-    adjacency(f)
-}
-
-fn chunk(n: u32, parts: u32, k: u32) -> u32 {
-    (u64::from(n) * u64::from(k) / u64::from(parts)) as u32
-}
-
-/// Runs the checks on scoped threads (one per core, each taking the next check), and
-/// reports the first failure in list order. Scoped threads end with the call: nothing is
-/// left running (a process forked afterwards, as `multiprocessing` does, is unaffected).
-fn run_all(checks: &[Check<'_>]) -> std::result::Result<(), String> {
-    par_parts(checks.len() as u32, |i| checks[i as usize]())
+    let adj = Adjacency::new(f);
+    let sums = std::sync::Mutex::new([PairSum::default(); 4]);
+    let mut jobs: Vec<Job<'_>> = vec![
+        Job::one(|| strings("str", &f.strings.list.text, &f.strings.list.ends)),
+        Job::one(|| strings("src", &f.sources.text, &f.sources.ends)),
+    ];
+    for (name, c) in [
+        ("obj_states", &f.obj_states),
+        ("obj_ingredients", &f.obj_ingredients),
+        ("var_states", &f.var_states),
+        ("var_ingredients", &f.var_ingredients),
+        ("fu_inputs", &f.fu_inputs),
+        ("fu_outputs", &f.fu_outputs),
+        ("producers", &f.producers),
+        ("consumers", &f.consumers),
+        ("fu_also", &f.fu_also),
+    ] {
+        let (off, data_len) = (&c.off[..], c.data.len());
+        jobs.push(Job::chunked(off.len(), move |r| {
+            csr(name, off, data_len, r)
+        }));
+    }
+    for (name, col, bound, none) in [
+        ("obj_label", &f.obj_label, n_str, false),
+        ("obj_container", &f.obj_container, n_str, true),
+        ("obj_states", &f.obj_states.data, n_str, false),
+        ("obj_ingredients", &f.obj_ingredients.data, n_str, false),
+        ("obj_first_variant", &f.obj_first_variant, n_var, false),
+        ("var_obj", &f.var_obj, n_obj, false),
+        ("var_states", &f.var_states.data, n_str, false),
+        ("var_ingredients", &f.var_ingredients.data, n_str, false),
+        ("fu_motion", &f.fu_motion, n_str, false),
+        ("fu_motion_meta", &f.fu_motion_meta, n_str, true),
+        ("fu_inputs", &f.fu_inputs.data, n_obj, false),
+        ("fu_outputs", &f.fu_outputs.data, n_obj, false),
+        ("fu_input_variant", &f.fu_input_variant, n_var, false),
+        ("fu_output_variant", &f.fu_output_variant, n_var, false),
+        ("producers", &f.producers.data, n_fu, false),
+        ("consumers", &f.consumers.data, n_fu, false),
+        ("motions", &f.motions, n_str, false),
+        ("fu_source", &f.fu_source, n_src, false),
+    ] {
+        let col = &col[..];
+        jobs.push(Job::chunked(col.len(), move |r| {
+            ids(name, col, bound, none, r)
+        }));
+    }
+    for (name, col) in [
+        ("fu_input_in_motion", &f.fu_input_in_motion),
+        ("fu_output_in_motion", &f.fu_output_in_motion),
+    ] {
+        let col = &col[..];
+        jobs.push(Job::chunked(col.len(), move |r| flags(name, col, r)));
+    }
+    let also_col = &f.fu_also.data[..];
+    jobs.push(Job::chunked(also_col.len(), move |r| {
+        also(also_col, n_src, r)
+    }));
+    for ((name, slots, n), empty) in [
+        ("str_table", &f.strings.table.slots, n_str),
+        ("obj_table", &f.obj_table.slots, n_obj),
+        ("fu_table", &f.fu_table.slots, n_fu),
+    ]
+    .into_iter()
+    .zip(&empties)
+    {
+        let slots = &slots[..];
+        jobs.push(Job::chunked(slots.len(), move |r| {
+            table(name, slots, n, r, empty)
+        }));
+    }
+    let (adj, sums) = (&adj, &sums);
+    let add = move |part: [PairSum; 4]| {
+        if let Ok(mut t) = sums.lock() {
+            for (t, x) in t.iter_mut().zip(part) {
+                *t = t.merge(x);
+            }
+        }
+    };
+    jobs.push(Job::chunked(n_obj, move |r| adj.objects(r).map(add)));
+    jobs.push(Job::chunked(n_fu, move |r| {
+        add(adj.fus(r));
+        Ok(())
+    }));
+    run_all(&jobs)?;
+    for (name, empty) in ["str_table", "obj_table", "fu_table"]
         .into_iter()
-        .collect()
+        .zip(&empties)
+    {
+        if !empty.load(Ordering::Relaxed) {
+            return Err(format!("column {name} has no empty slot"));
+        }
+    }
+    let total = sums.lock().map(|t| *t).unwrap_or_default();
+    if total[0] != total[2] {
+        return Err("column producers does not match the FU outputs".into());
+    }
+    if total[1] != total[3] {
+        return Err("column consumers does not match the FU inputs".into());
+    }
+    Ok(())
 }
 
-/// Sums of a keyed mix of `(object, FU)` pairs: equal multisets of pairs give equal sums;
-/// unequal ones, unequal sums but with a negligible probability (the keys are random per
+/// Runs every part of every job on scoped threads (one per core, each taking the next
+/// part), and reports the first failure in (job, part) order. Scoped threads end with the
+/// call: nothing is left running (a process forked afterwards, as `multiprocessing` does,
+/// is unaffected).
+fn run_all(jobs: &[Job<'_>]) -> Res {
+    let mut at = Vec::new();
+    for (j, job) in jobs.iter().enumerate() {
+        at.extend((0..job.parts).map(|k| (j, k)));
+    }
+    par_parts(at.len() as u32, |i| {
+        let (j, k) = at[i as usize];
+        (jobs[j].work)(k)
+    })
+    .into_iter()
+    .collect()
+}
+
+/// A keyed sum of a mix of `(object, FU)` pairs: equal multisets of pairs give equal sums;
+/// unequal ones, unequal sums but with a negligible probability (the key is random per
 /// process, so a file cannot be made to collide on purpose).
 #[derive(Clone, Copy, Default, PartialEq, Eq)]
-struct PairSum(u64, u64);
+struct PairSum(u64);
 
 impl PairSum {
     #[inline]
-    fn add(&mut self, keys: (u64, u64), o: u32, f: u32) {
+    fn add(&mut self, key: u64, o: u32, f: u32) {
         let x = (u64::from(o) << 32) | u64::from(f);
-        self.0 = self.0.wrapping_add(mix(x ^ keys.0));
-        self.1 = self.1.wrapping_add(mix(x.rotate_left(17) ^ keys.1));
+        self.0 = self.0.wrapping_add(mix(x ^ key));
     }
 
     fn merge(self, o: Self) -> Self {
-        Self(self.0.wrapping_add(o.0), self.1.wrapping_add(o.1))
+        Self(self.0.wrapping_add(o.0))
     }
 }
 
@@ -707,15 +819,21 @@ fn mix(mut x: u64) -> u64 {
     x ^ (x >> 33)
 }
 
-/// Per-process random keys for [`PairSum`].
-fn pair_keys() -> (u64, u64) {
+/// A per-process random key for [`PairSum`].
+fn pair_key() -> u64 {
     use std::hash::{BuildHasher, Hasher};
-    let s = std::collections::hash_map::RandomState::new();
-    let mut a = s.build_hasher();
-    a.write_u64(1);
-    let mut b = s.build_hasher();
-    b.write_u64(2);
-    (a.finish(), b.finish())
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u64(1);
+    h.finish()
+}
+
+/// Row `i` of a CSR given as slices; empty when the offsets are out of range or decrease.
+#[inline]
+fn row<'a>(off: &[u32], data: &'a [u32], i: usize) -> &'a [u32] {
+    match (off.get(i), off.get(i + 1)) {
+        (Some(&a), Some(&b)) => data.get(a as usize..b as usize).unwrap_or(&[]),
+        _ => &[],
+    }
 }
 
 /// Producers and consumers are exactly the relation the FU rows give, as
@@ -724,18 +842,59 @@ fn pair_keys() -> (u64, u64) {
 /// as an input (once per input slot, in non-decreasing order). The searches rely on it (a
 /// producer outputs its object). Checked in sequential scans, in parallel parts: the order
 /// of each row, and equal multisets of (object, FU) pairs from both sides ([`PairSum`]).
-fn adjacency(f: &Foon) -> std::result::Result<(), String> {
-    const PARTS: u32 = 16;
-    let keys = pair_keys();
-    let n_obj = f.object_count() as u32;
-    let n_fu = f.fu_count() as u32;
-    let bare: Vec<bool> = (0..n_obj).map(|o| f.is_bare(o)).collect();
-    let sums = par_parts(PARTS, |k| {
-        // [producers by object, consumers by object, producers by FU, consumers by FU]
+/// The columns are read as slices once; every access is checked, so that bytes the other
+/// checks refuse cannot make this one panic.
+struct Adjacency<'a> {
+    key: u64,
+    states_off: &'a [u32],
+    ingredients_off: &'a [u32],
+    container: &'a [u32],
+    prod_off: &'a [u32],
+    prod: &'a [u32],
+    cons_off: &'a [u32],
+    cons: &'a [u32],
+    in_off: &'a [u32],
+    inputs: &'a [u32],
+    out_off: &'a [u32],
+    outputs: &'a [u32],
+}
+
+impl<'a> Adjacency<'a> {
+    fn new(f: &'a Foon) -> Self {
+        Self {
+            key: pair_key(),
+            states_off: &f.obj_states.off,
+            ingredients_off: &f.obj_ingredients.off,
+            container: &f.obj_container,
+            prod_off: &f.producers.off,
+            prod: &f.producers.data,
+            cons_off: &f.consumers.off,
+            cons: &f.consumers.data,
+            in_off: &f.fu_inputs.off,
+            inputs: &f.fu_inputs.data,
+            out_off: &f.fu_outputs.off,
+            outputs: &f.fu_outputs.data,
+        }
+    }
+
+    /// As [`Foon::is_bare`], on the slices.
+    #[inline]
+    fn bare(&self, o: usize) -> bool {
+        let empty = |off: &[u32]| match (off.get(o), off.get(o + 1)) {
+            (Some(a), Some(b)) => a >= b,
+            _ => true,
+        };
+        empty(self.states_off)
+            && empty(self.ingredients_off)
+            && self.container.get(o) == Some(&NONE)
+    }
+
+    /// The by-object sums (`[producers, consumers, 0, 0]`) of the objects in `r`.
+    fn objects(&self, r: Range<usize>) -> std::result::Result<[PairSum; 4], String> {
         let mut s = [PairSum::default(); 4];
-        for o in chunk(n_obj, PARTS, k)..chunk(n_obj, PARTS, k + 1) {
-            let p = f.producers.row(o);
-            if !p.is_empty() && bare[o as usize] {
+        for o in r {
+            let p = row(self.prod_off, self.prod, o);
+            if !p.is_empty() && self.bare(o) {
                 return Err(format!(
                     "column producers lists FUs for the bare object {o}"
                 ));
@@ -744,43 +903,35 @@ fn adjacency(f: &Foon) -> std::result::Result<(), String> {
                 return Err(format!("column producers is not increasing at object {o}"));
             }
             for &g in p {
-                s[0].add(keys, o, g);
+                s[0].add(self.key, o as u32, g);
             }
-            let c = f.consumers.row(o);
+            let c = row(self.cons_off, self.cons, o);
             if c.windows(2).any(|w| w[1] < w[0]) {
                 return Err(format!("column consumers decreases at object {o}"));
             }
             for &g in c {
-                s[1].add(keys, o, g);
+                s[1].add(self.key, o as u32, g);
             }
-        }
-        for g in chunk(n_fu, PARTS, k)..chunk(n_fu, PARTS, k + 1) {
-            let out = f.fu_outputs.row(g);
-            for (i, &o) in out.iter().enumerate() {
-                if !bare[o as usize] && !out[..i].contains(&o) {
-                    s[2].add(keys, o, g);
-                }
-            }
-            f.fu_inputs
-                .row(g)
-                .iter()
-                .for_each(|&o| s[3].add(keys, o, g));
         }
         Ok(s)
-    });
-    let mut total = [PairSum::default(); 4];
-    for part in sums {
-        for (t, x) in total.iter_mut().zip(part?) {
-            *t = t.merge(x);
+    }
+
+    /// The by-FU sums (`[0, 0, outputs, inputs]`) of the FUs in `r`.
+    fn fus(&self, r: Range<usize>) -> [PairSum; 4] {
+        let mut s = [PairSum::default(); 4];
+        for g in r {
+            let out = row(self.out_off, self.outputs, g);
+            for (i, &o) in out.iter().enumerate() {
+                if !self.bare(o as usize) && !out[..i].contains(&o) {
+                    s[2].add(self.key, o, g as u32);
+                }
+            }
+            for &o in row(self.in_off, self.inputs, g) {
+                s[3].add(self.key, o, g as u32);
+            }
         }
+        s
     }
-    if total[0] != total[2] {
-        return Err("column producers does not match the FU outputs".into());
-    }
-    if total[1] != total[3] {
-        return Err("column consumers does not match the FU inputs".into());
-    }
-    Ok(())
 }
 
 /// `work(k)` for `k` in `0..parts`, on scoped threads (one per core), in order.
@@ -816,60 +967,93 @@ fn par_parts<T: Send>(parts: u32, work: impl Fn(u32) -> T + Sync) -> Vec<T> {
         .collect()
 }
 
-fn csr(name: &str, off: &[u32], data_len: usize) -> std::result::Result<(), String> {
-    if off.is_empty() {
+/// The offsets `off[r]` of a CSR: the first is 0, none is below the one before, the last is
+/// the data length.
+fn csr(name: &str, off: &[u32], data_len: usize, r: Range<usize>) -> Res {
+    if r.is_empty() {
         return Ok(());
     }
-    if off[0] != 0 {
+    if r.start == 0 && off[0] != 0 {
         return Err(format!("column {name}_off does not start at 0"));
     }
-    if let Some(i) = off.windows(2).position(|w| w[1] < w[0]) {
-        return Err(format!("column {name}_off decreases at row {i}"));
+    // Pairs (i - 1, i) for i in r, i > 0: a branch-free pass, then the position if any.
+    let lo = r.start.saturating_sub(1);
+    let s = &off[lo..r.end];
+    let down = s
+        .iter()
+        .zip(&s[1..])
+        .fold(0u32, |d, (a, b)| d | u32::from(b < a));
+    if down != 0 {
+        let i = s.windows(2).position(|w| w[1] < w[0]).unwrap_or(0);
+        return Err(format!("column {name}_off decreases at row {}", lo + i));
     }
-    let last = off[off.len() - 1] as usize;
-    if last != data_len {
-        return Err(format!(
-            "column {name}_off ends at {last}, but {name} has {data_len} entries"
-        ));
+    if r.end == off.len() {
+        let last = off[off.len() - 1] as usize;
+        if last != data_len {
+            return Err(format!(
+                "column {name}_off ends at {last}, but {name} has {data_len} entries"
+            ));
+        }
     }
     Ok(())
 }
 
-fn ids(name: &str, col: &[u32], bound: usize, none: bool) -> std::result::Result<(), String> {
+/// Every id of `col[r]` is below `bound`, or is "no value" where `none` allows it.
+fn ids(name: &str, col: &[u32], bound: usize, none: bool, r: Range<usize>) -> Res {
+    let s = &col[r.clone()];
+    // A branch-free maximum first (ids are below `u32::MAX`, so `bound` fits): with `none`,
+    // "no value" wraps to 0 and every other id moves up by one.
+    let b = bound.min(u32::MAX as usize) as u32;
+    let any_bad = if none {
+        s.iter().fold(0, |m: u32, &x| m.max(x.wrapping_add(1))) > b
+    } else {
+        !s.is_empty() && s.iter().fold(0, |m: u32, &x| m.max(x)) >= b
+    };
+    if !any_bad {
+        return Ok(());
+    }
     let bad = |x: u32| (x as usize) >= bound && !(none && x == NONE);
-    match col.iter().position(|&x| bad(x)) {
+    match s.iter().position(|&x| bad(x)) {
         Some(i) => Err(format!(
-            "column {name} holds {} at position {i}, out of range (there are {bound})",
-            col[i]
+            "column {name} holds {} at position {}, out of range (there are {bound})",
+            s[i],
+            r.start + i
         )),
         None => Ok(()),
     }
 }
 
-fn flags(name: &str, col: &[u8]) -> std::result::Result<(), String> {
-    match col.iter().position(|&x| x > 2) {
+fn flags(name: &str, col: &[u8], r: Range<usize>) -> Res {
+    let s = &col[r.clone()];
+    if s.iter().fold(0, |m: u8, &x| m.max(x)) <= 2 {
+        return Ok(());
+    }
+    match s.iter().position(|&x| x > 2) {
         Some(i) => Err(format!(
-            "column {name} holds {} at position {i} (flags are 0, 1 or 2)",
-            col[i]
+            "column {name} holds {} at position {} (flags are 0, 1 or 2)",
+            s[i],
+            r.start + i
         )),
         None => Ok(()),
     }
 }
 
-fn also(col: &[u32], n_src: usize) -> std::result::Result<(), String> {
-    if col.len() % 2 != 0 {
-        return Err("column fu_also has an odd length (it holds (source, line) pairs)".into());
-    }
-    match col.chunks_exact(2).position(|p| p[0] as usize >= n_src) {
+/// The sources of the (source, line) pairs in `col[r]` (`r` starts at an even position, as
+/// [`CHUNK`] is even).
+fn also(col: &[u32], n_src: usize, r: Range<usize>) -> Res {
+    let s = &col[r.clone()];
+    match s.chunks_exact(2).position(|p| p[0] as usize >= n_src) {
         Some(i) => Err(format!(
-            "column fu_also names source {} at pair {i}, out of range (there are {n_src})",
-            col[2 * i]
+            "column fu_also names source {} at pair {}, out of range (there are {n_src})",
+            s[2 * i],
+            r.start / 2 + i
         )),
         None => Ok(()),
     }
 }
 
-fn table(name: &str, slots: &[u32], n: usize) -> std::result::Result<(), String> {
+/// The size of a hash table: a power of two, or empty for no entries.
+fn table_size(name: &str, slots: &[u32], n: usize) -> Res {
     if slots.is_empty() {
         return if n == 0 {
             Ok(())
@@ -883,16 +1067,31 @@ fn table(name: &str, slots: &[u32], n: usize) -> std::result::Result<(), String>
             slots.len()
         ));
     }
-    if let Some(i) = slots.iter().position(|&x| x != EMPTY && x as usize >= n) {
-        return Err(format!(
-            "column {name} holds {} at slot {i}, out of range (there are {n})",
-            slots[i]
-        ));
-    }
-    if !slots.contains(&EMPTY) {
-        return Err(format!("column {name} has no empty slot"));
-    }
     Ok(())
+}
+
+/// The entries of `slots[r]` are below `n` or empty; sets `empty` when one is empty.
+fn table(name: &str, slots: &[u32], n: usize, r: Range<usize>, empty: &AtomicBool) -> Res {
+    let s = &slots[r.clone()];
+    // EMPTY is u32::MAX: it wraps to 0, every entry moves up by one.
+    let b = n.min(u32::MAX as usize) as u32;
+    let (top, has_empty) = s.iter().fold((0u32, 0u32), |(m, e), &x| {
+        (m.max(x.wrapping_add(1)), e | u32::from(x == EMPTY))
+    });
+    if has_empty != 0 {
+        empty.store(true, Ordering::Relaxed);
+    }
+    if top <= b {
+        return Ok(());
+    }
+    match s.iter().position(|&x| x != EMPTY && x as usize >= n) {
+        Some(i) => Err(format!(
+            "column {name} holds {} at slot {}, out of range (there are {n})",
+            s[i],
+            r.start + i
+        )),
+        None => Ok(()),
+    }
 }
 
 fn strings(name: &str, text: &[u8], ends: &[u64]) -> std::result::Result<(), String> {
