@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use super::hash::{Table, WordHasher, hash_words};
+use super::hash::{HashedTable, Table, hash_str, hash_words};
 use super::{Csr, DuplicateFu, Foon, NONE, fu_key_into, object_hash};
 use crate::error::{Error, Result, Warning};
 use crate::model::canonical_into;
@@ -21,23 +21,36 @@ pub struct RawObject<'a> {
     pub in_motion: u8,
 }
 
-fn variant_hash(obj: u32, states: &[u32], ingredients: &[u32]) -> u32 {
-    let mut h = WordHasher::new();
-    h.word(obj);
-    h.word(states.len() as u32);
-    h.words(states);
-    h.words(ingredients);
-    h.finish()
+// The identity record of an object while building (in `Builder::obj_rec`): its id, its variant
+// written in canonical order (or NONE), the first of its other variants (an offset + 1 into
+// `Builder::alt_rec`, or 0), label, container, counts of states and ingredients, then the
+// canonical states and ingredients. One record holds all that a look-up compares, so that it
+// reads one place of memory.
+const OBJ_ID: usize = 0;
+const OBJ_CANON: usize = 1;
+const OBJ_ALT: usize = 2;
+const OBJ_HEAD: usize = 7;
+// The record of a variant not in canonical order (in `Builder::alt_rec`): its id, the next one
+// of its object (offset + 1, or 0), counts, then states and ingredients as written.
+const ALT_HEAD: usize = 4;
+
+/// `n` as an offset into a record column (below [`NONE`]).
+fn record_offset(n: usize, what: &'static str) -> Result<u32> {
+    Error::check_id(n, what)
 }
 
 /// Incremental construction of a [`Foon`]; used by the parser (and later by merging).
 #[derive(Debug, Default)]
 pub struct Builder {
     foon: Foon,
-    /// Variant ids, found by (object, states and ingredients in written order); the hash of
-    /// each variant is kept so that the table grows without rehashing rows.
-    var_hash: Vec<u32>,
-    var_table: Table,
+    /// Objects by identity hash (values: offsets of their records in `obj_rec`).
+    obj_ix: HashedTable,
+    obj_rec: Vec<u32>,
+    /// Variants not written in canonical order (see `ALT_HEAD`).
+    alt_rec: Vec<u32>,
+    /// FUs by identity hash (values: ids), strings by hash (values: ids).
+    fu_ix: HashedTable,
+    str_ix: HashedTable,
     scratch: Vec<u32>,
     motion_seen: Vec<bool>,
     id_key: Vec<u32>,
@@ -79,17 +92,15 @@ impl Builder {
         let variants = fus * 2;
         let strings = fus / 2;
         let f = &mut b.foon;
-        let sized = f.strings.reserve(strings, strings * 16).is_ok()
-            && Table::with_capacity(objects).is_ok()
-            && Table::with_capacity(fus).is_ok()
-            && Table::with_capacity(variants).is_ok();
+        f.strings.reserve(strings, strings * 16);
+        let sized = Table::with_capacity(objects).is_ok() && Table::with_capacity(fus).is_ok();
         if !sized {
             return b;
         }
-        f.obj_table = Table::rebuild(&[], objects).unwrap_or_default();
-        f.fu_table = Table::rebuild(&[], fus).unwrap_or_default();
-        b.var_table = Table::rebuild(&[], variants).unwrap_or_default();
-        b.var_hash.reserve(variants);
+        b.obj_ix = HashedTable::with_capacity(objects).unwrap_or_default();
+        b.fu_ix = HashedTable::with_capacity(fus).unwrap_or_default();
+        b.str_ix = HashedTable::with_capacity(strings).unwrap_or_default();
+        b.obj_rec.reserve(objects * 9);
         for c in [
             &mut f.obj_label,
             &mut f.obj_container,
@@ -168,7 +179,22 @@ impl Builder {
     /// The id of string `s`, added when new (0 once a size error is met, see
     /// [`Builder::error`]).
     pub fn intern(&mut self, s: &str) -> u32 {
-        match self.foon.strings.try_intern(s) {
+        self.intern_hashed(s, hash_str(s))
+    }
+
+    /// As [`Builder::intern`], given `h == hash_str(s)` (computed beforehand, for example
+    /// on another thread).
+    pub(crate) fn intern_hashed(&mut self, s: &str, h: u32) -> u32 {
+        let strings = &self.foon.strings;
+        if let Some(id) = self.str_ix.find(h, |id| strings.text(id) == s) {
+            return id;
+        }
+        match self
+            .foon
+            .strings
+            .push_new(s, h)
+            .and_then(|id| self.str_ix.insert(h, id).map(|()| id))
+        {
             Ok(id) => id,
             Err(e) => {
                 self.failed(e);
@@ -191,18 +217,24 @@ impl Builder {
         let key = &mut self.id_key;
         let ns = canonical_into(raw.states, raw.ingredients, key);
         let (states, ingredients) = key.split_at(ns);
-        let f = &mut self.foon;
         let h = object_hash(raw.label, raw.container, states, ingredients);
-        let found = f.obj_table.find(h, &f.obj_hash, |o| {
-            f.obj_label[o as usize] == raw.label
-                && f.obj_container[o as usize] == raw.container
-                && f.obj_states.row(o) == states
-                && f.obj_ingredients.row(o) == ingredients
+        let rec = &self.obj_rec;
+        let head = [
+            raw.label,
+            raw.container,
+            ns as u32,
+            ingredients.len() as u32,
+        ];
+        let found = self.obj_ix.find(h, |at| {
+            let r = &rec[at as usize..];
+            r[3..OBJ_HEAD] == head && r[OBJ_HEAD..OBJ_HEAD + key.len()] == key[..]
         });
-        let obj = if let Some(o) = found {
-            o
+        let f = &mut self.foon;
+        let at = if let Some(at) = found {
+            at as usize
         } else {
             let o = Error::check_id(f.obj_label.len(), "objects")?;
+            let at = record_offset(self.obj_rec.len(), "object records")?;
             f.obj_states.try_push_row(states, "object states")?;
             f.obj_ingredients
                 .try_push_row(ingredients, "object ingredients")?;
@@ -210,30 +242,74 @@ impl Builder {
             f.obj_container.push(raw.container);
             f.obj_first_variant.push(NONE);
             f.obj_hash.push(h);
-            f.obj_table.insert(h, o, &f.obj_hash)?;
-            o
+            self.obj_rec.extend_from_slice(&[o, NONE, 0]);
+            self.obj_rec.extend_from_slice(&head);
+            self.obj_rec.extend_from_slice(key);
+            self.obj_ix.insert(h, at)?;
+            at as usize
         };
-        let vh = variant_hash(obj, raw.states, raw.ingredients);
-        let (vo, vs, vi) = (&f.var_obj, &f.var_states, &f.var_ingredients);
-        let found = self.var_table.find(vh, &self.var_hash, |v| {
-            vo[v as usize] == obj && vs.row(v) == raw.states && vi.row(v) == raw.ingredients
-        });
-        let var = if let Some(v) = found {
-            v
+        let obj = self.obj_rec[at + OBJ_ID];
+        let canonical = raw.states == states && raw.ingredients == ingredients;
+        let var = if canonical {
+            let v = self.obj_rec[at + OBJ_CANON];
+            if v == NONE {
+                let v = self.new_variant(obj, raw)?;
+                self.obj_rec[at + OBJ_CANON] = v;
+                v
+            } else {
+                v
+            }
         } else {
-            let v = Error::check_id(f.var_obj.len(), "object variants")?;
-            f.var_states.try_push_row(raw.states, "variant states")?;
-            f.var_ingredients
-                .try_push_row(raw.ingredients, "variant ingredients")?;
-            f.var_obj.push(obj);
-            self.var_hash.push(vh);
-            self.var_table.insert(vh, v, &self.var_hash)?;
-            v
+            let counts = [raw.states.len() as u32, raw.ingredients.len() as u32];
+            let mut link = self.obj_rec[at + OBJ_ALT];
+            // Where the link to a new variant goes: the object's record, or the last variant's.
+            let mut last = None;
+            let mut found = None;
+            while link != 0 {
+                let r = &self.alt_rec[link as usize - 1..];
+                let (ws, rest) = r[ALT_HEAD..].split_at(counts[0] as usize);
+                if r[2..ALT_HEAD] == counts
+                    && ws == raw.states
+                    && &rest[..counts[1] as usize] == raw.ingredients
+                {
+                    found = Some(r[0]);
+                    break;
+                }
+                last = Some(link as usize); // the `next` field of this record, in `alt_rec`
+                link = r[1];
+            }
+            if let Some(v) = found {
+                v
+            } else {
+                let v = self.new_variant(obj, raw)?;
+                let off = record_offset(self.alt_rec.len() + 1, "variant records")?;
+                self.alt_rec.extend_from_slice(&[v, 0]);
+                self.alt_rec.extend_from_slice(&counts);
+                self.alt_rec.extend_from_slice(raw.states);
+                self.alt_rec.extend_from_slice(raw.ingredients);
+                match last {
+                    None => self.obj_rec[at + OBJ_ALT] = off,
+                    Some(l) => self.alt_rec[l] = off,
+                }
+                v
+            }
         };
-        if f.obj_first_variant[obj as usize] == NONE {
-            f.obj_first_variant[obj as usize] = var;
+        if found.is_none() {
+            // A new object: this is its first variant.
+            self.foon.obj_first_variant[obj as usize] = var;
         }
         Ok((obj, var))
+    }
+
+    /// Adds a variant of object `obj` as `raw` writes it; returns its id.
+    fn new_variant(&mut self, obj: u32, raw: &RawObject<'_>) -> Result<u32> {
+        let f = &mut self.foon;
+        let v = Error::check_id(f.var_obj.len(), "object variants")?;
+        f.var_states.try_push_row(raw.states, "variant states")?;
+        f.var_ingredients
+            .try_push_row(raw.ingredients, "variant ingredients")?;
+        f.var_obj.push(obj);
+        Ok(v)
     }
 
     /// Adds an FU; returns its index, or the index of the earlier equal FU when it is a
@@ -321,7 +397,12 @@ impl Builder {
         }
         fu_key_into(motion, in_ids, out_ids, key);
         let h = hash_words(key);
-        if let Some(first) = self.foon.find_fu_key(key, h, &mut self.scratch) {
+        let (f, scratch) = (&self.foon, &mut self.scratch);
+        let found = self.fu_ix.find(h, |g| {
+            fu_key_into(f.fu_motion[g as usize], f.inputs(g), f.outputs(g), scratch);
+            scratch == key
+        });
+        if let Some(first) = found {
             let source = self.current;
             self.foon.report.duplicates.push(DuplicateFu {
                 line,
@@ -348,7 +429,7 @@ impl Builder {
         f.fu_output_in_motion
             .extend(outputs.iter().map(|r| r.in_motion));
         f.fu_hash.push(h);
-        f.fu_table.insert(h, idx, &f.fu_hash)?;
+        self.fu_ix.insert(h, idx)?;
         let m = motion as usize;
         if self.motion_seen.len() <= m {
             self.motion_seen.resize(m + 1, false);
@@ -375,6 +456,14 @@ impl Builder {
         if let Some(e) = self.fail {
             return Err(e);
         }
+        // The look-up tables of the build are done with: free them before the lists are built.
+        drop((
+            self.obj_ix,
+            self.obj_rec,
+            self.alt_rec,
+            self.fu_ix,
+            self.str_ix,
+        ));
         let mut f = self.foon;
         if f.sources.len() == 0 {
             f.sources.push("");
@@ -411,13 +500,29 @@ impl Builder {
                 .filter(|&(k, &o)| !bare[o as usize] && !row[..k].contains(&o))
                 .map(move |(_, &o)| (o, fu))
         });
-        f.producers = Csr::try_from_pairs(n_obj, prod_pairs, "producer entries")?;
         let ins = &f.fu_inputs;
         let cons_pairs = (0..n_fu as u32).flat_map(|fu| ins.row(fu).iter().map(move |&o| (o, fu)));
-        f.consumers = Csr::try_from_pairs(n_obj, cons_pairs, "input edges")?;
+        // The lists and the tables are independent: built side by side on the thread pool.
+        let (obj_hash, fu_hash) = (&f.obj_hash, &f.fu_hash);
+        let ((producers, consumers), (obj_table, fu_table)) = rayon::join(
+            || {
+                rayon::join(
+                    || Csr::try_from_pairs(n_obj, prod_pairs, "producer entries"),
+                    || Csr::try_from_pairs(n_obj, cons_pairs, "input edges"),
+                )
+            },
+            || {
+                rayon::join(
+                    || Table::rebuild(obj_hash, 0),
+                    || Table::rebuild(fu_hash, 0),
+                )
+            },
+        );
+        f.producers = producers?;
+        f.consumers = consumers?;
         f.strings.finish()?;
-        f.obj_table = Table::rebuild(&f.obj_hash, 0)?;
-        f.fu_table = Table::rebuild(&f.fu_hash, 0)?;
+        f.obj_table = obj_table?;
+        f.fu_table = fu_table?;
         for c in [
             &mut f.obj_label,
             &mut f.obj_container,

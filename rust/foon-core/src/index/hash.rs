@@ -169,9 +169,78 @@ impl Table {
     }
 }
 
+/// A build-time open-addressing table of `(hash, value)` pairs, the hash kept in the slot: a
+/// probe compares hashes without reading the rows, and growing never reads them either. Its
+/// size is a power of two, probing is linear from `hash & (size - 1)`, it is kept at most half
+/// full. Values are `u32` below [`EMPTY`].
+#[derive(Debug, Clone, Default)]
+pub(crate) struct HashedTable {
+    slots: Vec<u64>,
+    len: usize,
+}
+
+const EMPTY_SLOT: u64 = u64::MAX;
+
+impl HashedTable {
+    /// A table for `n` entries.
+    pub(crate) fn with_capacity(n: usize) -> Result<Self> {
+        Ok(Self {
+            slots: vec![EMPTY_SLOT; size_for(n)?],
+            len: 0,
+        })
+    }
+
+    /// The first value whose hash is `h` and for which `eq` holds.
+    #[inline]
+    pub(crate) fn find(&self, h: u32, mut eq: impl FnMut(u32) -> bool) -> Option<u32> {
+        if self.slots.is_empty() {
+            return None;
+        }
+        let mask = self.slots.len() - 1;
+        let mut i = h as usize & mask;
+        loop {
+            let s = self.slots[i];
+            if s == EMPTY_SLOT {
+                return None;
+            }
+            if (s >> 32) as u32 == h && eq(s as u32) {
+                return Some(s as u32);
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    /// Inserts `value` (not present yet, below [`EMPTY`]) with hash `h`.
+    pub(crate) fn insert(&mut self, h: u32, value: u32) -> Result<()> {
+        if (self.len + 1) * 2 > self.slots.len() {
+            let mut t = Self::with_capacity((self.len + 1).max(self.slots.len()))?;
+            for &s in &self.slots {
+                if s != EMPTY_SLOT {
+                    t.put(s);
+                }
+            }
+            t.len = self.len;
+            *self = t;
+        }
+        self.put(u64::from(h) << 32 | u64::from(value));
+        self.len += 1;
+        Ok(())
+    }
+
+    #[inline]
+    fn put(&mut self, s: u64) {
+        let mask = self.slots.len() - 1;
+        let mut i = (s >> 32) as usize & mask;
+        while self.slots[i] != EMPTY_SLOT {
+            i = (i + 1) & mask;
+        }
+        self.slots[i] = s;
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{Table, hash_str, hash_words};
+    use super::{HashedTable, Table, hash_str, hash_words};
 
     /// The hashes are part of the file format: fixed values, whatever the platform.
     #[test]
@@ -203,5 +272,17 @@ mod tests {
         assert_eq!(t.find(7, &hashes, |_| false), None);
         let canon = Table::rebuild(&hashes, 0).unwrap();
         assert_eq!(canon, Table::rebuild(&hashes, 0).unwrap());
+    }
+
+    #[test]
+    fn hashed_table_grows_and_finds() {
+        let mut t = HashedTable::default();
+        for v in 0..1000u32 {
+            t.insert(hash_words(&[v % 7]), v).unwrap();
+        }
+        for v in 0..1000u32 {
+            assert_eq!(t.find(hash_words(&[v % 7]), |x| x == v), Some(v));
+        }
+        assert_eq!(t.find(hash_words(&[3]), |x| x == 5000), None);
     }
 }

@@ -75,6 +75,15 @@ impl Interner {
         Ok(id)
     }
 
+    /// Adds `s`, not present yet, of hash `h` (`hash_str(s)`), without the look-up table,
+    /// which [`Interner::finish`] builds (for a builder that keeps its own).
+    pub(crate) fn push_new(&mut self, s: &str, h: u32) -> Result<u32> {
+        let id = Error::check_id(self.list.len(), "distinct strings")?;
+        self.list.push(s);
+        self.hashes.push(h);
+        Ok(id)
+    }
+
     #[inline]
     fn find(&self, h: u32, s: &str) -> Option<u32> {
         self.table
@@ -113,11 +122,11 @@ impl Interner {
         Ok(())
     }
 
-    pub(crate) fn reserve(&mut self, n: usize, bytes: usize) -> Result<()> {
+    /// Reserves room for `n` strings of `bytes` bytes in all (the look-up table is built by
+    /// [`Interner::finish`]).
+    pub(crate) fn reserve(&mut self, n: usize, bytes: usize) {
         self.list.ends.make_mut().reserve(n);
         self.list.text.make_mut().reserve(bytes);
         self.hashes.make_mut().reserve(n);
-        self.table = Table::rebuild(&self.hashes, n)?;
-        Ok(())
     }
 }

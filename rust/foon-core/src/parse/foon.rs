@@ -5,12 +5,10 @@
 //! its errors are the same for any chunking.
 
 use std::borrow::Cow;
-use std::hash::Hasher;
 use std::path::Path;
 
 use hashbrown::HashTable;
 use rayon::prelude::*;
-use rustc_hash::FxHasher;
 
 use super::ParseOptions;
 use super::lines::{
@@ -18,7 +16,7 @@ use super::lines::{
     second_container_fault, second_list_fault,
 };
 use crate::error::{Error, InputKind, Location, Result, Warning, WarningKind};
-use crate::index::{Builder, NONE, RawObject};
+use crate::index::{Builder, NONE, RawObject, hash};
 use crate::progress::Progress;
 
 /// What the second field of a line of this kind is, for messages.
@@ -88,18 +86,20 @@ pub(super) const CANCEL_EVERY_LINES: u64 = 4096;
 pub(super) const DEFAULT_CHUNK_BYTES: usize = 256 << 10;
 
 /// A string interner local to one chunk: a chunk's lines are read on their own thread with
-/// local ids, and the index interns each distinct string of a chunk once, in reading order.
+/// local ids, and the index interns each distinct string of a chunk once, in reading order,
+/// with the hash computed here.
 #[derive(Default)]
 struct Local {
     text: String,
     ends: Vec<u32>,
+    /// The index hash of each string ([`hash::hash_str`]).
+    hashes: Vec<u32>,
     table: HashTable<u32>,
 }
 
-fn hash_str(s: &str) -> u64 {
-    let mut h = FxHasher::default();
-    h.write(s.as_bytes());
-    h.finish()
+/// The local table's hash of a string of index hash `h` (spread over 64 bits).
+fn spread(h: u32) -> u64 {
+    u64::from(h).wrapping_mul(0x9e37_79b9_7f4a_7c15)
 }
 
 impl Local {
@@ -110,7 +110,8 @@ impl Local {
     }
 
     fn intern(&mut self, s: &str) -> u32 {
-        let h = hash_str(s);
+        let ih = hash::hash_str(s);
+        let h = spread(ih);
         let (text, ends) = (&self.text, &self.ends);
         let at = |id: u32| {
             let i = id as usize;
@@ -123,12 +124,10 @@ impl Local {
         let id = self.ends.len() as u32;
         self.text.push_str(s);
         self.ends.push(self.text.len() as u32);
-        let (text, ends) = (&self.text, &self.ends);
-        self.table.insert_unique(h, id, |&id| {
-            let i = id as usize;
-            let start = if i == 0 { 0 } else { ends[i - 1] as usize };
-            hash_str(&text[start..ends[i] as usize])
-        });
+        self.hashes.push(ih);
+        let hashes = &self.hashes;
+        self.table
+            .insert_unique(h, id, |&id| spread(hashes[id as usize]));
         id
     }
 }
@@ -230,7 +229,7 @@ fn read_chunk(data: &[u8], path: Option<&Path>) -> Chunk {
                     other => other.to_string(),
                 };
                 c.ops.push(LineOp {
-                    number: line as u32,
+                    number: local_line(line),
                     start: 0,
                     op: Op::Stop(err(line, column, reason)),
                 });
@@ -241,7 +240,7 @@ fn read_chunk(data: &[u8], path: Option<&Path>) -> Chunk {
         let start = (line.text.as_ptr() as usize - base) as u32;
         let push = |c: &mut Chunk, op: Op| {
             c.ops.push(LineOp {
-                number: number as u32,
+                number: local_line(number),
                 start,
                 op,
             });
@@ -335,6 +334,19 @@ fn read_chunk(data: &[u8], path: Option<&Path>) -> Chunk {
     c
 }
 
+/// The most bytes of a chunk before its last line: a chunk is under 4 GiB (with its last line,
+/// at most [`super::MAX_LINE_BYTES`]), so its byte offsets and line numbers fit a `u32`.
+const MAX_CHUNK_BYTES: usize = 1 << 30;
+const _: () = assert!(MAX_CHUNK_BYTES + super::MAX_LINE_BYTES < u32::MAX as usize);
+
+/// A line number within a chunk (which has fewer than `u32::MAX` lines, see
+/// [`MAX_CHUNK_BYTES`]); the input's line numbers (`u64`) are checked where the index keeps
+/// them (see [`super::line_u32`]).
+fn local_line(n: u64) -> u32 {
+    debug_assert!(u32::try_from(n).is_ok());
+    n as u32
+}
+
 /// The error `e` of a chunk whose first line is line `base + 1` of the input.
 fn rebase(f: &Fault, base: u64, path: Option<&Path>) -> Error {
     Error::parse(
@@ -399,8 +411,10 @@ impl Feeder<'_, '_> {
             let mut ended = false;
             let r = self.line(b, data, c, lo, line, &mut ended);
             if let Err(e) = r {
-                let Some(errs) = self.errors.as_deref_mut() else {
-                    return Err(e);
+                // A size error ends the parse, even a recovering one.
+                let errs = match self.errors.as_deref_mut() {
+                    Some(errs) if !matches!(e, Error::TooLarge { .. }) => errs,
+                    _ => return Err(e),
                 };
                 errs.push(e);
                 if !ended {
@@ -424,7 +438,7 @@ impl Feeder<'_, '_> {
     fn id(&mut self, b: &mut Builder, c: &Chunk, id: u32) -> u32 {
         let slot = &mut self.ids[id as usize];
         if *slot == NONE {
-            *slot = b.intern(c.local.text(id));
+            *slot = b.intern_hashed(c.local.text(id), c.local.hashes[id as usize]);
         }
         *slot
     }
@@ -658,9 +672,16 @@ fn finish(
         }
     }
     if let (Some((motion, meta)), false) = (block.motion, block.two_motions) {
+        let line = match super::line_u32(block.start_line) {
+            Ok(l) => l,
+            Err(e) => {
+                block.clear();
+                return Err(e);
+            }
+        };
         let objs: Vec<RawObject<'_>> = block.objects.iter().map(|s| block.raw(s)).collect();
         let (inputs, outputs) = objs.split_at(block.first_output);
-        let _ = b.add_fu(motion, meta, inputs, outputs, block.start_line as u32);
+        let _ = b.add_fu(motion, meta, inputs, outputs, line);
     }
     block.clear();
     Ok(())
@@ -722,7 +743,33 @@ fn read_window(w: &[u8], chunk: usize, path: Option<&Path>) -> Vec<(usize, usize
 /// are read on the thread pool while the previous ones feed the index in input order, so the
 /// result is the same for every chunk size and number of threads.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn parse_stream<'d>(
+pub(super) fn parse_stream(
+    b: &mut Builder,
+    source: &mut dyn Source<'_>,
+    path: Option<&Path>,
+    opts: ParseOptions,
+    errors: Option<&mut Vec<Error>>,
+    cancel: &(dyn Fn() -> bool + Sync),
+    progress: Option<&Progress>,
+    chunk_bytes: usize,
+) -> Result<()> {
+    parse_stream_from(
+        b,
+        source,
+        path,
+        opts,
+        errors,
+        cancel,
+        progress,
+        chunk_bytes,
+        0,
+    )
+}
+
+/// As [`parse_stream`], the input's first line being line `base + 1` (tests of line numbers
+/// past `u32`, without a file of billions of lines).
+#[allow(clippy::too_many_arguments)]
+fn parse_stream_from<'d>(
     b: &mut Builder,
     source: &mut dyn Source<'d>,
     path: Option<&Path>,
@@ -731,8 +778,9 @@ pub(super) fn parse_stream<'d>(
     cancel: &(dyn Fn() -> bool + Sync),
     progress: Option<&Progress>,
     chunk_bytes: usize,
+    base: u64,
 ) -> Result<()> {
-    let chunk = chunk_bytes.max(1);
+    let chunk = chunk_bytes.clamp(1, MAX_CHUNK_BYTES);
     let mut feeder = Feeder {
         path,
         opts,
@@ -740,7 +788,7 @@ pub(super) fn parse_stream<'d>(
         cancel,
         progress,
         block: Block::default(),
-        base: 0,
+        base,
         since_cancel: CANCEL_EVERY_LINES,
         ids: Vec::new(),
         stopped: false,
@@ -808,5 +856,55 @@ fn push_state(block: &mut Block, id: u32) {
     let end = block.states.len() as u32;
     if let Some(o) = block.objects.last_mut() {
         o.states.1 = end;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{InMemory, parse_stream_from};
+    use crate::error::Error;
+    use crate::index::Builder;
+    use crate::parse::ParseOptions;
+
+    const UNIT: &[u8] = b"O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n";
+
+    /// Parses `UNIT` (its first line being line `base + 1`): the unit's line, or the error.
+    fn unit_line(base: u64, recover: bool, chunk: usize) -> Result<u32, Error> {
+        let mut b = Builder::new();
+        b.begin_source(None);
+        let mut errors = Vec::new();
+        let mut src = InMemory {
+            data: UNIT,
+            window: chunk,
+        };
+        let opts = ParseOptions::default();
+        let errs = recover.then_some(&mut errors);
+        parse_stream_from(
+            &mut b,
+            &mut src,
+            None,
+            opts,
+            errs,
+            &|| false,
+            None,
+            chunk,
+            base,
+        )?;
+        assert!(errors.is_empty());
+        Ok(b.finish().fu_line(0))
+    }
+
+    /// Line numbers are `u64` while read and `u32` in the index: a unit that starts past
+    /// `u32::MAX` is a size error (even when recovering), never a wrapped number.
+    #[test]
+    fn line_numbers_past_u32_are_too_large() {
+        let max = u64::from(u32::MAX);
+        for recover in [false, true] {
+            for chunk in [1, 8, 1 << 20] {
+                assert_eq!(unit_line(max - 1, recover, chunk).unwrap(), u32::MAX);
+                let e = unit_line(max, recover, chunk).unwrap_err();
+                assert!(matches!(e, Error::TooLarge { what: "lines", .. }), "{e}");
+            }
+        }
     }
 }

@@ -537,6 +537,7 @@ fn add_unit(
     let (inputs, outputs) = raws.split_at(fu.input_nodes.len());
     let motion = b.intern(&fu.motion_node);
     let meta = fu.motion_meta.as_deref().map_or(NONE, |m| b.intern(m));
-    let _ = b.add_fu(motion, meta, inputs, outputs, line as u32);
+    let line = super::line_u32(line)?;
+    let _ = b.add_fu(motion, meta, inputs, outputs, line);
     Ok(())
 }

@@ -60,6 +60,14 @@ impl ParseControl<'_> {
     }
 }
 
+/// Line `n` as the `u32` the index keeps, or [`Error::TooLarge`] past it.
+pub(crate) fn line_u32(n: u64) -> Result<u32> {
+    u32::try_from(n).map_err(|_| Error::TooLarge {
+        what: "lines",
+        limit: u64::from(u32::MAX),
+    })
+}
+
 /// Checks that `path` is a file that can be read to its end: regular files and pipes are (a
 /// FIFO or a process substitution such as `<(zcat foon.txt.gz)` waits for its writer, as `cat`
 /// does); devices and sockets are refused, so that `/dev/zero` is an error rather than a read
