@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import random
 import subprocess
 import sys
 from collections.abc import Sequence
@@ -17,11 +18,26 @@ import pytest
 from conftest import DATA, Course
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_differential import Case, GenFoon, draw_case, gen_foons
+from test_differential import (
+    CONTAINERS,
+    INGREDIENTS,
+    LABELS,
+    MOTIONS,
+    RATES,
+    STATES,
+    UTENSILS,
+    Case,
+    GenFoon,
+    GenFU,
+    GenObject,
+    _render_fu,
+    draw_case,
+    gen_foons,
+)
 
 OPTIMAL = ("optimal-success", "optimal-units", "optimal-inputs")
 
-SETTINGS = settings(max_examples=500, deadline=None, derandomize=True,
+SETTINGS = settings(max_examples=100, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                            HealthCheck.filter_too_much])  # fmt: skip
 
@@ -144,12 +160,90 @@ def _check_diverse(
 @SETTINGS
 @given(g=gen_foons(), data=st.data())
 def test_generated_foons(g: GenFoon, data: st.DataObject) -> None:
-    """500 generated FOONs, each checked for every objective (generating a FOON costs more
+    """100 hypothesis FOONs, each checked for every objective (generating a FOON costs more
     than checking it): up to two goals each (diverse lists for optimal-units;
     every objective under -m slow), the produced ones first."""
     case = draw_case(data, g)
     for goal in case.goals[-2:]:
         _check_goal(case, goal, OPTIMAL, ("optimal-units",))
+
+
+def _seeded_case(seed: int) -> Case:
+    """A small FOON from a seed (cheaper to make than a hypothesis one): plain units over a
+    shared pool, self-loops, duplicates (dropped on load), two-unit cycles and container-rule
+    units, and twin units (two units making the same pair); a kitchen of most raw items and a few made ones, rates with ties, 0 and 1."""
+    rnd = random.Random(seed)
+
+    def obj() -> GenObject:
+        ings = tuple(rnd.sample(INGREDIENTS, rnd.randint(1, 2))) if rnd.random() < 0.2 else ()
+        cont = rnd.choice((None, *CONTAINERS))
+        return GenObject(rnd.choice(LABELS), tuple(rnd.sample(STATES, rnd.randint(0, 1))), ings,
+                         cont)  # fmt: skip
+
+    pool = [obj() for _ in range(rnd.randint(2, 5))]
+
+    def some(lo: int, hi: int) -> tuple[GenObject, ...]:
+        return tuple(rnd.choice(pool) for _ in range(rnd.randint(lo, hi)))
+
+    fus: list[GenFU] = []
+    for _ in range(rnd.randint(3, 14)):
+        kind = rnd.choice(("plain", "plain", "plain", "self-loop", "duplicate", "cycle",
+                           "container", "twins"))  # fmt: skip
+        m = rnd.choice(MOTIONS)
+        if kind == "plain":
+            fus.append(GenFU(m, some(0, 3), some(1, 2)))
+        elif kind == "self-loop":
+            ins = some(1, 2)
+            fus.append(GenFU(m, ins, (rnd.choice(ins), *some(0, 1))))
+        elif kind == "duplicate" and fus:
+            fus.append(rnd.choice(fus))
+        elif kind == "cycle":
+            a, b = rnd.choice(pool), rnd.choice(pool)
+            fus.append(GenFU(m, (a, *some(0, 1)), (b,)))
+            fus.append(GenFU(rnd.choice(MOTIONS), (b,), (a,)))
+        elif kind == "container":
+            u, x = rnd.choice(UTENSILS), rnd.choice(INGREDIENTS)
+            holder, held = GenObject(u, (), (x,)), GenObject(x, (), (), u)
+            out = GenObject(u, (rnd.choice(STATES),), (x,))
+            pool.extend((holder, held, out))
+            fus.append(GenFU(m, (holder, held), (out,)))
+        elif kind == "twins":
+            # Two units making the same pair, and a unit needing both: two choice
+            # assignments (each object from another unit) give one set of units.
+            a, b = rnd.choice(pool), obj()
+            c = obj()
+            pool.extend((b, c))
+            fus.append(GenFU(m, some(0, 1), (a, b)))
+            fus.append(GenFU(rnd.choice(MOTIONS), some(0, 1), (b, a)))
+            fus.append(GenFU(rnd.choice(MOTIONS), (a, b), (c,)))
+    lines: list[str] = []
+    for fu in fus:
+        lines += _render_fu(rnd, fu)
+    text = "\n".join(lines) + "\n"
+    rf = ref.parse(text)
+    f = foon.Foon.from_text(text)
+    n = len(rf.objects)
+    kitchen = [ident for o, ident in enumerate(rf.objects)
+               if (rnd.random() < 0.9 if not rf.producers(o) else rnd.random() < 0.15)]  # fmt: skip
+    items = [foon.Object(*ident) for ident in kitchen]
+    utensils = set(rnd.choice((UTENSILS, ())))
+    rates = {m: rnd.choice(RATES) for m in MOTIONS}
+    # Goals: made objects, those with several producers first.
+    produced = sorted((o for o in range(n) if rf.producers(o)),
+                      key=lambda o: (-len(rf.producers(o)), rnd.random()))  # fmt: skip
+    goals = sorted(produced[:2])
+    return Case(rf, f, kitchen, foon.Kitchen(items), utensils, rates, goals)
+
+
+def test_seeded_foons() -> None:
+    """500 seeded FOONs, every objective (diverse lists for optimal-units and -success); most
+    goals must be within the reference's budget."""
+    checked = 0
+    for seed in range(500):
+        case = _seeded_case(seed)
+        for goal in case.goals:
+            checked += _check_goal(case, goal, OPTIMAL, ("optimal-units", "optimal-success"))
+    assert checked >= 500
 
 
 @pytest.mark.slow
