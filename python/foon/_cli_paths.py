@@ -107,10 +107,16 @@ def plan_k(args: argparse.Namespace) -> int:
 
     if args.k < 1:
         raise UsageError(f"--k must be at least 1 (got {args.k})")
+    if not args.method.startswith("optimal-"):
+        raise UsageError(
+            f"--k needs an optimal method (optimal-success, optimal-units or optimal-inputs), "
+            f"not {args.method}"
+        )
     if args.format not in ("text", "json") or args.out is not None:
         raise UsageError("--k prints text or --format json, to standard output")
     f, kitchen, motions, utensils, ex = inputs(args)
     goals = _goals(args, ex)
     planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
-    trees = (planner.plan_k(g, args.k, args.method, diverse=args.diverse) for g in goals)
+    ids = [f.goal_id(g) for g in goals]  # every goal found before anything is written
+    trees = (planner.plan_k(g, args.k, args.method, diverse=args.diverse) for g in ids)
     return print_ranked(f, goals, trees, args.format == "json")
