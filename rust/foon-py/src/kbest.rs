@@ -7,7 +7,7 @@ use foon_core::{Context, Method, Paths, Prepared};
 use pyo3::prelude::*;
 
 use crate::convert::str_field;
-use crate::errors::{PyFoonErr, enter};
+use crate::errors::{PyFoonErr, enter_here};
 use crate::foon::check_object;
 use crate::plan::PyPlan;
 use crate::planner::PyPlanner;
@@ -27,7 +27,8 @@ pub(crate) fn plan_k(
     check_object(&planner.foon, goal)?;
     let method: Method = str_field("method", method)?.parse().map_err(PyFoonErr)?;
     let (foon, prep) = (&*planner.foon, &*planner.prep);
-    let plans = enter(py, |cancel| {
+    // On this thread: a short call costs no thread; Ctrl-C is seen between subspaces.
+    let plans = enter_here(py, |cancel| {
         Context::with(foon, prep)?
             .with_cancel(cancel)
             .plan_k(goal, method, k, diverse)
@@ -59,7 +60,7 @@ impl PyPaths {
     ) -> PyResult<Self> {
         check_object(&planner.foon, goal)?;
         let (foon, prep) = (&*planner.foon, &*planner.prep);
-        let state = enter(py, |cancel| {
+        let state = enter_here(py, |cancel| {
             let ctx = Context::with(foon, prep)?.with_cancel(cancel);
             Paths::new(&ctx, goal, max_trees, max_height)
         })?;
@@ -76,7 +77,7 @@ impl PyPaths {
 
     fn __next__(&self, py: Python<'_>) -> PyResult<Option<Py<PyPlan>>> {
         let (foon, prep) = (&*self.foon, &*self.prep);
-        let next = enter(py, |cancel| {
+        let next = enter_here(py, |cancel| {
             let ctx = Context::with(foon, prep)?.with_cancel(cancel);
             // A poisoned lock only means an earlier call panicked: the state is still whole.
             let mut state = self

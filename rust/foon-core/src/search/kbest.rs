@@ -19,7 +19,8 @@ use super::{Context, Method, Plan, Query};
 use crate::error::{Error, Result};
 use crate::index::NONE;
 
-/// The goal's ancestry as a small graph of local ids (objects and units in id order, so every
+/// The goal's ancestry as a small graph of local ids (derivable objects, and the units whose
+/// needed inputs are all derivable: nothing else is in a tree) (objects and units in id order, so every
 /// tie is broken as in the global search).
 pub(super) struct Local {
     /// Global id of each local object.
@@ -62,6 +63,7 @@ fn weights(ctx: &Context<'_>, method: Method, fus: &[u32]) -> Result<(Vec<f64>, 
 impl Local {
     pub(super) fn new(ctx: &Context<'_>, goal: u32, method: Method) -> Result<Self> {
         let foon = ctx.foon;
+        let ranks = ctx.ranks();
         let mut objs = vec![goal];
         let mut seen_o = HashSet::from([goal]);
         let mut fus = Vec::new();
@@ -76,7 +78,12 @@ impl Local {
                 continue;
             }
             for &f in foon.producers(o) {
-                if !seen_f.insert(f) {
+                // A unit with an input that cannot be made is in no tree.
+                if !ranks
+                    .rank(o)
+                    .is_some_and(|_| ctx.needed(f).iter().all(|&x| ranks.rank(x).is_some()))
+                    || !seen_f.insert(f)
+                {
                     continue;
                 }
                 fus.push(f);
@@ -438,9 +445,7 @@ impl Partition {
             match item.node {
                 Node::Open(c) => {
                     self.solved += 1;
-                    if self.solved % 256 == 0 {
-                        ctx.check_stop()?;
-                    }
+                    ctx.check_stop()?;
                     if let Some(s) = g.solve(&self.w, &c, &mut self.work) {
                         self.push(s.cost, 0, Node::Done(c, s));
                     }
