@@ -48,6 +48,7 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
+    from foon._kbest import RankedTree
     from foon._merge import MergeReport, load_merged, merge, merge_report
     from foon._synth import (
         MAX_SYNTH_UNITS,
@@ -83,6 +84,7 @@ __all__ = [
     "OutputError",
     "ParseError",
     "Planner",
+    "RankedTree",
     "SynthReport",
     "TaskTree",
     "TreeCheck",
@@ -115,6 +117,7 @@ _LAZY: dict[str, str] = {
         "foon._synth",
     ),
     **dict.fromkeys(("MergeReport", "load_merged", "merge", "merge_report"), "foon._merge"),
+    "RankedTree": "foon._kbest",
 }
 
 
@@ -1210,6 +1213,35 @@ class Foon:
         p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
         return p.plan_many(goals, method, compat=compat, count=count, threads=threads)
 
+    def plan_k(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike = None,
+        k: int = 10,
+        method: Method | str = "optimal-units",
+        *,
+        diverse: bool = False,
+        motions: MotionsLike = None,
+        utensils: UtensilsLike = None,
+        default_rate: float | None = None,
+    ) -> list[RankedTree]:
+        """The ``k`` best trees of ``goal`` (see :meth:`Planner.plan_k`)."""
+        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        return p.plan_k(goal, k, method, diverse=diverse)
+
+    def paths(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike = None,
+        *,
+        max_trees: int | None = None,
+        max_height: int | None = None,
+        utensils: UtensilsLike = None,
+    ) -> Iterator[RankedTree]:
+        """Every valid tree of ``goal`` up to the limits, lazily (see :meth:`Planner.paths`)."""
+        p = self.planner(kitchen, utensils=utensils)
+        return p.paths(goal, max_trees=max_trees, max_height=max_height)
+
     def planner(
         self,
         kitchen: KitchenLike = None,
@@ -1352,6 +1384,31 @@ class Planner:
         ids = [self.foon.goal_id(g) for g in goals]
         raw = self._native.plan(ids, method, compat or "sound", count, threads)
         return [TaskTree(self.foon, d, self) for d in raw]
+
+    def plan_k(
+        self,
+        goal: GoalLike,
+        k: int,
+        method: Method | str = "optimal-units",
+        *,
+        diverse: bool = False,
+    ) -> list[RankedTree]:
+        """The ``k`` valid trees of lowest cost for an ``optimal-*`` method, in cost order,
+        each a distinct set of units (fewer when there are fewer; none when the goal cannot be
+        made). ``diverse``: each tree after the first is the best one under weights that
+        penalise the units of the earlier trees (see METHODS.md, "The k best trees")."""
+        from . import _kbest
+
+        return _kbest.plan_k(self, self.foon.goal_id(goal), k, method, diverse)
+
+    def paths(
+        self, goal: GoalLike, *, max_trees: int | None = None, max_height: int | None = None
+    ) -> Iterator[RankedTree]:
+        """Every valid tree of ``goal`` (fewest units first), lazily, each set of units once,
+        leaving out those higher than ``max_height`` and stopping after ``max_trees``."""
+        from . import _kbest
+
+        return _kbest.paths(self, self.foon.goal_id(goal), max_trees, max_height)
 
     def ranks(self) -> list[int | None]:
         """Rank of every object: the fewest parallel steps that make it from the kitchen

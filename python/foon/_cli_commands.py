@@ -225,6 +225,10 @@ def _goal_tuple(g: Goal) -> tuple[tuple[str, list[str], list[str], str | None], 
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    if getattr(args, "k", None) is not None:
+        from foon._cli_paths import plan_k
+
+        return plan_k(args)
     f, kitchen, motions, utensils, ex = inputs(args)
     goals = read_raw_goals(args, ex)
     fmt = args.format

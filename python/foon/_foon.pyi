@@ -13,6 +13,7 @@ __all__ = [
     "MissingRateError",
     "OutputError",
     "ParseError",
+    "Paths",
     "Plan",
     "Planner",
     "TreeWriter",
@@ -35,6 +36,7 @@ __all__ = [
     "parse_objects",
     "parse_rates",
     "parse_utensils",
+    "plan_k",
     "split_pddl",
     "stats_json",
     "verify_json",
@@ -210,6 +212,22 @@ class Planner:
     ) -> tuple[bool, int | None, tuple[int, list[int]] | None]: ...
     def ranks(self) -> list[int | None]: ...
     def kitchen_objects(self) -> list[int]: ...
+
+def plan_k(
+    planner: Planner, goal: int, method: str, k: int, diverse: bool = False
+) -> list[Plan]: ...
+
+@final
+class Paths:
+    def __new__(
+        cls,
+        planner: Planner,
+        goal: int,
+        max_trees: int | None = None,
+        max_height: int | None = None,
+    ) -> Paths: ...
+    def __iter__(self) -> Paths: ...
+    def __next__(self) -> Plan: ...
 
 def object_fields(
     label: str, states: Iterable[str], ingredients: Iterable[str], container: str | None

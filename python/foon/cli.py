@@ -286,6 +286,8 @@ def _plan_options(pl: argparse.ArgumentParser) -> None:
     pl.add_argument(
         "--threads", type=_threads, metavar="N", help="threads for many goals (default: all cores)"
     )
+    pl.add_argument("--k", type=int, metavar="K", help="optimal-*: the K best trees, in cost order")
+    pl.add_argument("--diverse", action="store_true", help="--k: penalise units of earlier trees")
     pl.add_argument(
         "-q", "--quiet", action="store_true", help="no summary lines for solved goals on stderr"
     )

@@ -36,3 +36,4 @@ pub use parse::{
 };
 pub use prepare::{Prepared, Ranks};
 pub use search::{Compat, Context, Count, Explanation, Method, Plan, Query};
+pub use search::{kbest::KBest, paths::Paths};

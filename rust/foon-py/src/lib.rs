@@ -9,6 +9,7 @@ mod convert;
 mod errors;
 mod foon;
 mod json;
+mod kbest;
 mod kitchen;
 mod loaders;
 mod merge;
@@ -25,6 +26,8 @@ mod _foon {
     use super::foon::PyFoon;
     #[pymodule_export]
     use super::json::{check_json, objects_json, stats_json, verify_json};
+    #[pymodule_export]
+    use super::kbest::{PyPaths, plan_k};
     #[pymodule_export]
     use super::kitchen::PyKitchen;
     #[pymodule_export]

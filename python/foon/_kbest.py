@@ -1,0 +1,91 @@
+"""The k best trees (:meth:`foon.Planner.plan_k`) and the bounded enumeration of trees
+(:meth:`foon.Planner.paths`): typed results over the core's plans."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
+
+from . import _foon
+
+if TYPE_CHECKING:
+    from . import Planner, TaskTree
+
+
+class RankedTree:
+    """One tree of a k-best list or of an enumeration: its ``rank`` (1 is the first), its
+    ``cost`` (the objective's figure: success probability, unit count or kitchen-input count)
+    and the :class:`foon.TaskTree` itself."""
+
+    __slots__ = ("cost", "rank", "tree")
+
+    def __init__(self, rank: int, cost: float, tree: TaskTree) -> None:
+        self.rank = rank
+        self.cost = cost
+        self.tree = tree
+
+    @property
+    def units(self) -> list[int]:
+        """FU indices in execution order."""
+        return self.tree.units
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, RankedTree) and (self.rank, self.cost, self.tree) == (
+            other.rank,
+            other.cost,
+            other.tree,
+        )
+
+    def __hash__(self) -> int:
+        return hash((self.rank, self.cost, tuple(self.units)))
+
+    def __repr__(self) -> str:
+        return f"<RankedTree #{self.rank} cost {self.cost:g}: {len(self.units)} units>"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Rank, method, cost, height, success and units (indices, execution order)."""
+        t = self.tree
+        return {
+            "rank": self.rank,
+            "method": t.method,
+            "cost": self.cost,
+            "height": t.height,
+            "success": t.success,
+            "units": t.units,
+        }
+
+
+def _ranked(planner: Planner, plans: Iterator[_foon.Plan]) -> Iterator[RankedTree]:
+    from . import TaskTree
+
+    for i, p in enumerate(plans, 1):
+        assert p.cost is not None
+        yield RankedTree(i, p.cost, TaskTree(planner.foon, p, planner))
+
+
+def plan_k(planner: Planner, goal: int, k: int, method: str, diverse: bool) -> list[RankedTree]:
+    if isinstance(k, bool) or not isinstance(k, int):
+        raise TypeError(f"k must be an int, not {type(k).__name__}")
+    if k < 1:
+        raise ValueError(f"k must be at least 1, not {k}")
+    plans = _foon.plan_k(planner._native, goal, method, k, diverse)
+    return list(_ranked(planner, iter(plans)))
+
+
+def _limit(name: str, v: int | None) -> int | None:
+    if v is None:
+        return None
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise TypeError(f"{name} must be an int or None, not {type(v).__name__}")
+    if v < 0:
+        raise ValueError(f"{name} must not be negative, not {v}")
+    return v
+
+
+def paths(
+    planner: Planner, goal: int, max_trees: int | None, max_height: int | None
+) -> Iterator[RankedTree]:
+    it = _foon.Paths(
+        planner._native, goal, _limit("max_trees", max_trees), _limit("max_height", max_height)
+    )
+    return _ranked(planner, it)
