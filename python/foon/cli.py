@@ -94,11 +94,12 @@ COMMANDS = (
     "index",
     "merge",
     "synth",
+    "paths",
 )
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("index", "merge", "synth")
+_OWN_MODULE = ("index", "merge", "synth", "paths")
 
 
 def _columns() -> int:
@@ -216,6 +217,13 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
             (
                 "Writes a realistic merged FOON of exactly --units units (course dialect), "
                 "deterministic for --seed, with its kitchen, goals and motion table on request."
+            ),
+        ),
+        "paths": (
+            "stream every valid tree of a goal up to limits",
+            (
+                "Every valid tree of a goal (fewest units first), each once, lazily; "
+                "--max-trees N, --max-height H; never prompts."
             ),
         ),
         "draw": (
