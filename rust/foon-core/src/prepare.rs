@@ -40,6 +40,23 @@ pub struct Prepared {
     optima: [OnceLock<Optimum>; Objective::COUNT],
     /// `ids`: the first producer of each object that achieves its rank (`NONE` when none).
     ids_choice: OnceLock<Vec<u32>>,
+    /// Per greedy heuristic: each object's producers in its order, and the course's choice.
+    greedy: [OnceLock<Greedy>; Greedy::COUNT],
+}
+
+/// One greedy heuristic's producer order for every object, computed once per kitchen (the
+/// keys depend on the rates and the needed inputs only, not on the goal or the path).
+pub(crate) struct Greedy {
+    /// Each object's producers, best first, ties by FU index (the sound search's order).
+    pub(crate) order: Csr,
+    /// Each object's first best producer in file order, `NONE` when it has none (the course
+    /// loop's choice).
+    pub(crate) first: Vec<u32>,
+}
+
+impl Greedy {
+    /// `greedy-success`, `greedy-inputs` counting nodes, `greedy-inputs` counting ingredients.
+    pub(crate) const COUNT: usize = 3;
 }
 
 /// An objective computed once per kitchen over the whole FOON by Knuth's algorithm.
@@ -155,6 +172,7 @@ impl Prepared {
             ranks: OnceLock::new(),
             optima: Default::default(),
             ids_choice: OnceLock::new(),
+            greedy: Default::default(),
         })
     }
 
@@ -238,9 +256,24 @@ impl Prepared {
         once(&self.optima[objective as usize], init)
     }
 
+    /// Whether the optimum of `objective` is computed.
+    pub(crate) fn has_optimum(&self, objective: Objective) -> bool {
+        self.optima[objective as usize].get().is_some()
+    }
+
     /// The choice of `ids` for every object, computed by `init` on first use.
     pub(crate) fn ids_choice(&self, init: impl FnOnce() -> Result<Vec<u32>>) -> Result<&[u32]> {
         once(&self.ids_choice, init).map(Vec::as_slice)
+    }
+
+    /// The producer order of greedy heuristic `which` (`0..Greedy::COUNT`), computed by
+    /// `init` on first use.
+    pub(crate) fn greedy(
+        &self,
+        which: usize,
+        init: impl FnOnce() -> Result<Greedy>,
+    ) -> Result<&Greedy> {
+        once(&self.greedy[which], init)
     }
 
     /// Ranks from the kitchen plus the objects marked in `extra`.

@@ -102,10 +102,20 @@ fn queries() -> Vec<Query> {
             });
         }
     }
+    // The course loop reads the greedy choices computed once per kitchen too.
+    for method in [Method::Bfs, Method::GreedySuccess, Method::GreedyInputs] {
+        for count in [Count::Nodes, Count::Ingredients] {
+            out.push(Query {
+                method,
+                compat: Compat::Course,
+                count,
+            });
+        }
+    }
     out
 }
 
-/// Plans every goal with every sound method on one context (so what is computed once is
+/// Plans every goal with every method on one context (so what is computed once is
 /// reused from the second goal on) and from scratch, and compares the results (errors by
 /// their message).
 fn same_plans(text: &str, density: u8, kseed: &[u8], rates: u8) -> Result<usize, TestCaseError> {

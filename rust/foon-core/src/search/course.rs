@@ -9,6 +9,7 @@ use crate::error::Result;
 
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let foon = ctx.foon;
+    let shared = heuristic::shared(ctx, query)?;
     let mut queue = VecDeque::from([goal]);
     let mut in_queue = ctx.id_map(foon.object_count(), false);
     let mut visited = ctx.id_map(foon.object_count(), false);
@@ -35,7 +36,10 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
             unresolved.push(o);
             continue;
         }
-        let f = heuristic::best(ctx, prods, query)?;
+        let f = match shared {
+            Some(g) => g.first[o as usize],
+            None => heuristic::best(ctx, prods, query)?,
+        };
         if in_tree.replace(f, true) {
             continue;
         }

@@ -321,6 +321,7 @@ fn dedup_tail(v: &mut Vec<u32>, from: usize) {
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     let foon = ctx.foon;
     let ranks = ctx.ranks();
+    let shared = heuristic::shared(ctx, query)?;
     let n = foon.object_count();
     let mut choice = ctx.id_map(n, NONE);
     // Position on the path (1 for the goal), NONE when not on it.
@@ -367,8 +368,12 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
                 depth: &mut IdMap<u32>|
      -> Result<()> {
         let start = buf.len();
-        buf.extend_from_slice(foon.producers(o));
-        heuristic::order(ctx, &mut buf[start..], query)?;
+        if let Some(g) = shared {
+            buf.extend_from_slice(g.order.row(o));
+        } else {
+            buf.extend_from_slice(foon.producers(o));
+            heuristic::order(ctx, &mut buf[start..], query)?;
+        }
         stack.push(Frame {
             obj: o,
             cands: (start, buf.len()),

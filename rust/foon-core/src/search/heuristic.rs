@@ -3,8 +3,12 @@
 //! ([`best`]), the sound greedy search tries the producers best first ([`order`]); both compare
 //! the same [`key`], and ties always go to the lower FU index.
 
+use rayon::prelude::*;
+
 use super::{Context, Count, Method, Query};
 use crate::error::Result;
+use crate::index::{Csr, NONE};
+use crate::prepare::Greedy;
 
 /// The heuristic key of `fu` for `query`: smaller is better. `greedy-success`: a higher motion
 /// rate (the error naming the motion when it has none); `greedy-inputs`: fewer input nodes or
@@ -56,6 +60,10 @@ fn input_count(ctx: &Context<'_>, fu: u32, count: Count) -> usize {
 /// producers of an object. Every candidate's key is computed (a missing rate is an error even
 /// when another candidate would win). `cands` is not empty.
 pub(super) fn best(ctx: &Context<'_>, cands: &[u32], query: Query) -> Result<u32> {
+    if !matches!(query.method, Method::GreedySuccess | Method::GreedyInputs) {
+        // Every key is 0 and can fail for no candidate: the first one wins.
+        return Ok(cands[0]);
+    }
     let mut best = cands[0];
     let mut best_key = key(ctx, best, query)?;
     for &f in &cands[1..] {
@@ -83,6 +91,68 @@ pub(super) fn order(ctx: &Context<'_>, cands: &mut [u32], query: Query) -> Resul
         *slot = f;
     }
     Ok(())
+}
+
+/// The producer order and course choice of every object for `query`'s heuristic, computed
+/// once per kitchen; `None` for a method without a heuristic, for plans from scratch, and for
+/// `greedy-success` when some motion has no rate (which rate is missing, and so the error,
+/// depends on the objects expanded: those plans compute their keys as they go).
+pub(super) fn shared<'c>(ctx: &'c Context<'_>, query: Query) -> Result<Option<&'c Greedy>> {
+    let which = match (query.method, query.count) {
+        (Method::GreedySuccess, _) if ctx.all_rated() => 0,
+        (Method::GreedyInputs, Count::Nodes) => 1,
+        (Method::GreedyInputs, Count::Ingredients) => 2,
+        _ => return Ok(None),
+    };
+    if ctx.is_from_scratch() {
+        return Ok(None);
+    }
+    ctx.greedy(which, || greedy(ctx, query)).map(Some)
+}
+
+/// Every FU's key once, then each object's producers sorted by (key, FU) and its first best
+/// producer in file order: the same as [`order`] and [`best`] on its producers.
+fn greedy(ctx: &Context<'_>, query: Query) -> Result<Greedy> {
+    let foon = ctx.foon;
+    let keys = (0..foon.fu_count() as u32)
+        .into_par_iter()
+        .map(|f| key(ctx, f, query))
+        .collect::<Result<Vec<u64>>>()?;
+    ctx.check_stop()?;
+    let n = foon.object_count();
+    let mut order = Csr::with_capacity(n, 0);
+    let mut row: Vec<u32> = Vec::new();
+    let mut first = vec![NONE; n];
+    let mut keyed: Vec<(u64, u32)> = Vec::new();
+    for (o, slot) in (0..).zip(first.iter_mut()) {
+        if o % 65_536 == 0 {
+            ctx.check_stop()?;
+        }
+        let prods = foon.producers(o);
+        match prods {
+            [] => order.push_row(prods),
+            [f] => {
+                *slot = *f;
+                order.push_row(prods);
+            }
+            _ => {
+                keyed.clear();
+                keyed.extend(prods.iter().map(|&f| (keys[f as usize], f)));
+                let mut best = keyed[0];
+                for &k in &keyed[1..] {
+                    if k.0 < best.0 {
+                        best = k;
+                    }
+                }
+                *slot = best.1;
+                keyed.sort_unstable();
+                row.clear();
+                row.extend(keyed.iter().map(|&(_, f)| f));
+                order.push_row(&row);
+            }
+        }
+    }
+    Ok(Greedy { order, first })
 }
 
 #[cfg(test)]

@@ -308,8 +308,31 @@ fn knuth_all(
     Ok(Optimum { cost, choice })
 }
 
-/// The optimum of `objective` for the context's kitchen (computed on first use).
+/// The optimum of `objective` for the context's kitchen (computed on first use). The
+/// objectives of the optimal methods are computed together, on the thread pool (one plan of
+/// any of them makes the others free): `optimal-success`'s only when every motion has a rate.
 fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
+    if objective != Objective::Shopping && !ctx.has_optimum(objective) {
+        let success = || {
+            if ctx.all_rated() {
+                one_optimum(ctx, Objective::Success).map(|_| ())
+            } else {
+                Ok(())
+            }
+        };
+        let ((s, u), i) = rayon::join(
+            || rayon::join(success, || one_optimum(ctx, Objective::Units)),
+            || one_optimum(ctx, Objective::Inputs),
+        );
+        s?;
+        u?;
+        i?;
+    }
+    one_optimum(ctx, objective)
+}
+
+/// The optimum of `objective` alone (computed on first use).
+fn one_optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
     ctx.optimum(objective, || {
         let kitchen = |o: u32| ctx.in_kitchen(o);
         let zero = |_: u32| 0.0;
