@@ -12,6 +12,7 @@ mod optimal;
 mod plan;
 mod query;
 mod scratch;
+mod shared;
 mod tree;
 
 use std::time::Instant;
@@ -19,6 +20,7 @@ use std::time::Instant;
 pub use context::Context;
 pub use plan::{Explanation, Plan};
 pub use query::{Compat, Count, Method, Query};
+pub use shared::{SharedObjective, SharedOptions};
 
 use crate::error::{Error, Result};
 
@@ -42,7 +44,10 @@ impl Context<'_> {
         let mut plan = match (query.compat, query.method) {
             (
                 Compat::Course,
-                Method::OptimalSuccess | Method::OptimalUnits | Method::OptimalInputs,
+                Method::OptimalSuccess
+                | Method::OptimalUnits
+                | Method::OptimalInputs
+                | Method::OptimalShared,
             ) => {
                 return Err(Error::Invalid(format!(
                     "method {} has no course-compatible form",
@@ -57,6 +62,13 @@ impl Context<'_> {
                     p.cost = match method {
                         Method::OptimalSuccess | Method::OptimalInputs => Some(1.0),
                         Method::OptimalUnits => Some(0.0),
+                        Method::OptimalShared => {
+                            let success =
+                                self.shared_options().objective == SharedObjective::Success;
+                            p.bound = Some(if success { 1.0 } else { 0.0 });
+                            p.proven = Some(true);
+                            p.bound
+                        }
                         _ => None,
                     };
                     p
@@ -71,6 +83,7 @@ impl Context<'_> {
                         Method::GreedySuccess | Method::GreedyInputs => {
                             greedy::plan(self, goal, query)?
                         }
+                        Method::OptimalShared => shared::plan(self, goal, query)?,
                         _ => optimal::plan(self, goal, query)?,
                     }
                 }
