@@ -622,3 +622,101 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
         ..Plan::empty(goal, query)
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::parse::{ParseOptions, parse_foon};
+    use crate::{ObjectSpec, index::Foon};
+
+    /// A dish made from `width` parts, each made alone from the kitchen, or all at once by one
+    /// unit that needs a base made in two steps: the tree cost prefers the singles (width + 1
+    /// units), the fewest distinct units the shared unit (4).
+    fn wide(width: usize) -> Foon {
+        use std::fmt::Write as _;
+        let mut t = String::new();
+        let parts: String = (0..width).fold(String::new(), |mut s, i| {
+            let _ = write!(s, "O\tpart\nS\tp{i}\n");
+            s
+        });
+        for i in 0..width {
+            let _ = write!(t, "O\tnode\nS\tn0\nM\tmix\nO\tpart\nS\tp{i}\n//\n");
+        }
+        t.push_str("O\tnode\nS\tn0\nM\tmix\nO\tbase\nS\tb1\n//\n");
+        t.push_str("O\tbase\nS\tb1\nM\tmix\nO\tbase\nS\tb2\n//\n");
+        let _ = write!(t, "O\tbase\nS\tb2\nM\tmix\n{parts}//\n");
+        let _ = write!(t, "{parts}M\tmix\nO\tdish\nS\tdone\n//\n");
+        parse_foon(t.as_bytes(), None, ParseOptions::default()).unwrap()
+    }
+
+    fn plan(foon: &Foon, opts: SharedOptions) -> Plan {
+        let kitchen = [ObjectSpec {
+            label: "node".into(),
+            states: vec!["n0".into()],
+            ..Default::default()
+        }];
+        let ctx = Context::new(foon, &kitchen, &[], None, None)
+            .unwrap()
+            .with_shared(opts);
+        let goal = ctx
+            .goal(&ObjectSpec {
+                label: "dish".into(),
+                states: vec!["done".into()],
+                ..Default::default()
+            })
+            .unwrap();
+        let query = Query {
+            method: Method::OptimalShared,
+            ..Query::default()
+        };
+        let mut p = ctx.plan(goal, query).unwrap();
+        assert!(ctx.is_valid(&p.units, goal));
+        p.seconds = 0.0;
+        p
+    }
+
+    #[test]
+    fn a_shared_unit_is_found_and_proven() {
+        let foon = wide(6);
+        let p = plan(&foon, SharedOptions::default());
+        assert_eq!(p.units.len(), 4);
+        assert_eq!(
+            (p.cost, p.bound, p.proven),
+            (Some(4.0), Some(4.0), Some(true))
+        );
+    }
+
+    #[test]
+    fn a_node_limit_is_deterministic_and_keeps_the_bound() {
+        let foon = wide(6);
+        for limit in 0..12 {
+            let opts = SharedOptions {
+                node_limit: Some(limit),
+                ..SharedOptions::default()
+            };
+            let (a, b) = (plan(&foon, opts), plan(&foon, opts));
+            assert_eq!(a, b);
+            let (cost, bound) = (a.cost.unwrap(), a.bound.unwrap());
+            assert!(bound <= 4.0 && 4.0 <= cost, "{limit}: {bound} {cost}");
+            if a.proven == Some(true) {
+                assert_eq!(bound, cost);
+            } else {
+                assert_eq!(a.expanded, limit);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        let opts = SharedOptions {
+            time_limit: Some(f64::NAN),
+            ..SharedOptions::default()
+        };
+        assert!(opts.check().is_err());
+        assert!("fewest".parse::<SharedObjective>().is_err());
+        assert_eq!(
+            "success".parse::<SharedObjective>().unwrap().as_str(),
+            "success"
+        );
+    }
+}
