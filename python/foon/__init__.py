@@ -39,6 +39,7 @@ if TYPE_CHECKING:
         "optimal-success",
         "optimal-units",
         "optimal-inputs",
+        "optimal-shared",
     ]
     PathLike: TypeAlias = str | bytes | os.PathLike[str] | os.PathLike[bytes]
     ObjectLike: TypeAlias = "Object | Mapping[str, Any]"
@@ -713,6 +714,23 @@ class TaskTree:
         return self._plan.cost
 
     @property
+    def bound(self) -> float | None:
+        """``optimal-shared``: the proven bound on :attr:`cost` (a lower bound on the unit
+        count, an upper bound on the success; None for the other methods)."""
+        return self._plan.bound
+
+    @property
+    def proven(self) -> bool | None:
+        """``optimal-shared``: whether :attr:`cost` is proven optimal (False when a limit
+        stopped the search first; None for the other methods)."""
+        return self._plan.proven
+
+    @property
+    def gap(self) -> float | None:
+        """``optimal-shared``: ``abs(cost - bound)``, 0 when proven."""
+        return self._plan.gap
+
+    @property
     def leaf_inputs(self) -> int:
         """Distinct kitchen items the units need."""
         return self._plan.leaf_inputs
@@ -1183,15 +1201,28 @@ class Foon:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        objective: Literal["units", "success"] | None = None,
+        node_limit: int | None = None,
+        time_limit: float | None = None,
     ) -> TaskTree:
         """Plans a task tree for ``goal`` from ``kitchen``.
 
         ``method``: ``ids`` (default), ``greedy-success``, ``greedy-inputs``,
-        ``optimal-success``, ``optimal-units``, ``optimal-inputs`` or ``bfs``. Sound unless
-        ``compat="course"``, which reproduces the course code's trees byte for byte.
+        ``optimal-success``, ``optimal-units``, ``optimal-inputs``, ``optimal-shared`` or
+        ``bfs``. Sound unless ``compat="course"``, which reproduces the course code's trees
+        byte for byte. ``objective`` (``units`` by default, or ``success``), ``node_limit``
+        and ``time_limit`` (seconds) are the options of ``optimal-shared``.
         """
         p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
-        return p.plan(goal, method, compat=compat, count=count)
+        return p.plan(
+            goal,
+            method,
+            compat=compat,
+            count=count,
+            objective=objective,
+            node_limit=node_limit,
+            time_limit=time_limit,
+        )
 
     def plan_many(
         self,
@@ -1205,13 +1236,25 @@ class Foon:
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
         threads: int | None = None,
+        objective: Literal["units", "success"] | None = None,
+        node_limit: int | None = None,
+        time_limit: float | None = None,
     ) -> list[TaskTree]:
         """Plans many goals in one call: the kitchen is matched once, the interpreter is
         released, and the goals are spread over ``threads`` threads (see
         :meth:`Planner.plan_many`)."""
         _check_goals(goals)
         p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
-        return p.plan_many(goals, method, compat=compat, count=count, threads=threads)
+        return p.plan_many(
+            goals,
+            method,
+            compat=compat,
+            count=count,
+            threads=threads,
+            objective=objective,
+            node_limit=node_limit,
+            time_limit=time_limit,
+        )
 
     def plan_k(
         self,
@@ -1361,9 +1404,21 @@ class Planner:
         *,
         compat: Literal["course"] | None = None,
         count: Literal["nodes", "ingredients"] = "nodes",
+        objective: Literal["units", "success"] | None = None,
+        node_limit: int | None = None,
+        time_limit: float | None = None,
     ) -> TaskTree:
         """Plans one goal (see :meth:`Foon.plan`)."""
-        raw = self._native.plan([self.foon.goal_id(goal)], method, compat or "sound", count, 1)
+        raw = self._native.plan(
+            [self.foon.goal_id(goal)],
+            method,
+            compat or "sound",
+            count,
+            1,
+            objective,
+            node_limit,
+            time_limit,
+        )
         return TaskTree(self.foon, raw[0], self)
 
     def plan_many(
@@ -1374,6 +1429,9 @@ class Planner:
         compat: Literal["course"] | None = None,
         count: Literal["nodes", "ingredients"] = "nodes",
         threads: int | None = None,
+        objective: Literal["units", "success"] | None = None,
+        node_limit: int | None = None,
+        time_limit: float | None = None,
     ) -> list[TaskTree]:
         """Plans many goals, in order, spread over ``threads`` worker threads. ``threads`` is
         always honoured (1 plans on one thread), capped to the available parallelism of the
@@ -1382,7 +1440,9 @@ class Planner:
         the batch (``KeyboardInterrupt``)."""
         _check_goals(goals)
         ids = [self.foon.goal_id(g) for g in goals]
-        raw = self._native.plan(ids, method, compat or "sound", count, threads)
+        raw = self._native.plan(
+            ids, method, compat or "sound", count, threads, objective, node_limit, time_limit
+        )
         return [TaskTree(self.foon, d, self) for d in raw]
 
     def plan_k(

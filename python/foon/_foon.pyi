@@ -152,6 +152,12 @@ class Plan:
     @property
     def cost(self) -> float | None: ...
     @property
+    def bound(self) -> float | None: ...
+    @property
+    def proven(self) -> bool | None: ...
+    @property
+    def gap(self) -> float | None: ...
+    @property
     def leaf_inputs(self) -> int: ...
     @property
     def expanded(self) -> int: ...
@@ -202,11 +208,21 @@ class Planner:
         default_rate: float | None = None,
     ) -> Planner: ...
     def plan(
-        self, goals: list[int], method: str, compat: str, count: str, threads: int | None = None
+        self,
+        goals: list[int],
+        method: str,
+        compat: str,
+        count: str,
+        threads: int | None = None,
+        objective: str | None = None,
+        node_limit: int | None = None,
+        time_limit: float | None = None,
     ) -> list[Plan]:
         """Plans every goal in order on `threads` worker threads: always honoured, capped to
         the available parallelism (`max_threads()`) and to the number of goals; None means
-        the FOON_THREADS environment variable, else all cores."""
+        the FOON_THREADS environment variable, else all cores. `objective` (`units` or
+        `success`), `node_limit` and `time_limit` (seconds) are the options of
+        `optimal-shared`."""
     def check_tree(
         self, units: list[int], goal: int
     ) -> tuple[bool, int | None, tuple[int, list[int]] | None]: ...

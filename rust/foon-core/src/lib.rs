@@ -35,5 +35,7 @@ pub use parse::{
     ParseOptions, load_foon, load_foon_cancellable, parse_foon, parse_foon_cancellable,
 };
 pub use prepare::{Prepared, Ranks};
-pub use search::{Compat, Context, Count, Explanation, Method, Plan, Query};
+pub use search::{
+    Compat, Context, Count, Explanation, Method, Plan, Query, SharedObjective, SharedOptions,
+};
 pub use search::{kbest::KBest, paths::Paths};

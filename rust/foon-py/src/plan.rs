@@ -33,6 +33,7 @@ type PlanState = (
         usize,
         f64,
     ),
+    (Option<f64>, Option<bool>),
 );
 
 #[pymethods]
@@ -94,6 +95,21 @@ impl PyPlan {
     #[getter]
     fn cost(&self) -> Option<f64> {
         self.plan.cost
+    }
+    /// `optimal-shared`: the proven bound on the cost.
+    #[getter]
+    fn bound(&self) -> Option<f64> {
+        self.plan.bound
+    }
+    /// `optimal-shared`: whether the cost is proven optimal.
+    #[getter]
+    fn proven(&self) -> Option<bool> {
+        self.plan.proven
+    }
+    /// `optimal-shared`: `|cost - bound|`.
+    #[getter]
+    fn gap(&self) -> Option<f64> {
+        self.plan.gap()
     }
     #[getter]
     fn leaf_inputs(&self) -> usize {
@@ -157,6 +173,7 @@ impl PyPlan {
                 p.peak_frontier,
                 p.seconds,
             ),
+            (p.bound, p.proven),
         );
         let f = slf.get_type().getattr("_from_state")?;
         Ok((f, PyTuple::new(slf.py(), [state.into_pyobject(slf.py())?])?))
@@ -165,7 +182,9 @@ impl PyPlan {
     /// Rebuilds a plan from its pickled form.
     #[staticmethod]
     fn _from_state(state: PlanState) -> PyResult<Self> {
-        let ((goal, method, compat, count), (solved, units, unresolved, expl), metrics) = state;
+        let ((goal, method, compat, count), (solved, units, unresolved, expl), metrics, shared) =
+            state;
+        let (bound, proven) = shared;
         let (height, success, unrated, cost, leaf_inputs, expanded, peak_frontier, seconds) =
             metrics;
         let query = foon_core::Query {
@@ -189,6 +208,8 @@ impl PyPlan {
                 success,
                 unrated,
                 cost,
+                bound,
+                proven,
                 leaf_inputs,
                 expanded,
                 peak_frontier,

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use foon_core::MotionRates;
 use foon_core::search::batch::{self, BatchOptions};
-use foon_core::{Context, Prepared, Query};
+use foon_core::{Context, Prepared, Query, SharedObjective, SharedOptions};
 use pyo3::prelude::*;
 
 use crate::convert::{rate_arg, rate_pairs_arg, str_field, str_list_field, threads_arg};
@@ -62,7 +62,10 @@ impl PyPlanner {
 
     /// Plans every goal (object ids), in order, on `threads` worker threads (see
     /// `foon_core::search::batch` for the cap and the default).
-    #[pyo3(signature = (goals, method, compat, count, threads = None))]
+    /// `objective` (`"units"` or `"success"`), `node_limit` and `time_limit` (seconds) are
+    /// the options of `optimal-shared`.
+    #[pyo3(signature = (goals, method, compat, count, threads = None, objective = None, node_limit = None, time_limit = None))]
+    #[allow(clippy::too_many_arguments)]
     fn plan(
         &self,
         py: Python<'_>,
@@ -71,8 +74,20 @@ impl PyPlanner {
         compat: &Bound<'_, PyAny>,
         count: &Bound<'_, PyAny>,
         threads: Option<&Bound<'_, PyAny>>,
+        objective: Option<&Bound<'_, PyAny>>,
+        node_limit: Option<u64>,
+        time_limit: Option<f64>,
     ) -> PyResult<Vec<Py<PyPlan>>> {
         let threads = threads_arg(threads)?;
+        let shared = SharedOptions {
+            objective: match objective {
+                Some(o) => str_field("objective", o)?.parse().map_err(PyFoonErr)?,
+                None => SharedObjective::default(),
+            },
+            node_limit,
+            time_limit,
+        };
+        shared.check().map_err(PyFoonErr)?;
         let method = str_field("method", method)?;
         let compat = str_field("compat", compat)?;
         let count = str_field("count", count)?;
@@ -84,7 +99,7 @@ impl PyPlanner {
         for &g in &goals {
             check_object(&self.foon, g)?;
         }
-        let opts = BatchOptions::threads(threads);
+        let opts = BatchOptions::threads(threads).with_shared(shared);
         let workers = opts.workers(goals.len()).map_err(PyFoonErr)?;
         let (foon, prep) = (&*self.foon, &*self.prep);
         let run = |cancel: Cancel<'_>| {

@@ -23,7 +23,7 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
-use super::{Context, Plan, Query};
+use super::{Context, Plan, Query, SharedOptions};
 use crate::error::{Error, Result};
 use crate::index::Foon;
 use crate::prepare::Prepared;
@@ -38,6 +38,8 @@ pub struct BatchOptions<'a> {
     pub threads: Option<usize>,
     /// Called now and then by every worker; `true` stops the batch with [`Error::Cancelled`].
     pub cancel: Option<&'a (dyn Fn() -> bool + Sync)>,
+    /// The options of `optimal-shared` for every goal.
+    pub shared: SharedOptions,
 }
 
 impl std::fmt::Debug for BatchOptions<'_> {
@@ -45,6 +47,7 @@ impl std::fmt::Debug for BatchOptions<'_> {
         f.debug_struct("BatchOptions")
             .field("threads", &self.threads)
             .field("cancel", &self.cancel.is_some())
+            .field("shared", &self.shared)
             .finish()
     }
 }
@@ -55,7 +58,15 @@ impl<'a> BatchOptions<'a> {
         Self {
             threads,
             cancel: None,
+            shared: SharedOptions::default(),
         }
+    }
+
+    /// The same options with these `optimal-shared` options.
+    #[must_use]
+    pub fn with_shared(mut self, shared: SharedOptions) -> Self {
+        self.shared = shared;
+        self
     }
 
     /// The same options with a cancel callback.
@@ -150,7 +161,9 @@ pub fn plan_batch(
     let workers = opts.workers(goals.len())?;
     let never = || false;
     let cancel: &(dyn Fn() -> bool + Sync) = opts.cancel.unwrap_or(&never);
-    let ctx = Context::with(foon, prep)?.with_cancel(cancel);
+    let ctx = Context::with(foon, prep)?
+        .with_cancel(cancel)
+        .with_shared(opts.shared);
     if goals.is_empty() {
         return Ok(Vec::new());
     }

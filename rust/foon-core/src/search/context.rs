@@ -2,6 +2,7 @@
 //! belong to it), the cancel callback and the per-search state policy; and the public entry
 //! points over it (rates, ranks, goals, and the evaluation of a tree).
 
+use super::SharedOptions;
 use super::scratch;
 use crate::error::{Error, Result};
 use crate::evaluate::{self, TreeMetrics};
@@ -24,6 +25,8 @@ pub struct Context<'a> {
     scratch_limit: usize,
     /// Plan every goal from scratch, without what is computed once per kitchen.
     from_scratch: bool,
+    /// The options of `optimal-shared`.
+    shared: SharedOptions,
 }
 
 impl std::ops::Deref for Context<'_> {
@@ -56,6 +59,7 @@ impl<'a> Context<'a> {
             cancel: None,
             scratch_limit: scratch::DENSE_MAX,
             from_scratch: false,
+            shared: SharedOptions::default(),
         })
     }
 
@@ -68,6 +72,7 @@ impl<'a> Context<'a> {
             cancel: None,
             scratch_limit: scratch::DENSE_MAX,
             from_scratch: false,
+            shared: SharedOptions::default(),
         })
     }
 
@@ -97,6 +102,18 @@ impl<'a> Context<'a> {
     pub fn from_scratch(mut self) -> Self {
         self.from_scratch = true;
         self
+    }
+
+    /// Sets the options of `optimal-shared` (objective, node and time limits).
+    #[must_use]
+    pub fn with_shared(mut self, opts: SharedOptions) -> Self {
+        self.shared = opts;
+        self
+    }
+
+    /// The options of `optimal-shared`.
+    pub(super) fn shared_options(&self) -> SharedOptions {
+        self.shared
     }
 
     /// Whether plans search from their goal (see [`Context::from_scratch`]).

@@ -14,6 +14,7 @@ pub mod paths;
 mod plan;
 mod query;
 mod scratch;
+mod shared;
 mod tree;
 
 use std::time::Instant;
@@ -21,6 +22,7 @@ use std::time::Instant;
 pub use context::Context;
 pub use plan::{Explanation, Plan};
 pub use query::{Compat, Count, Method, Query};
+pub use shared::{SharedObjective, SharedOptions};
 
 use crate::error::{Error, Result};
 
@@ -44,7 +46,10 @@ impl Context<'_> {
         let mut plan = match (query.compat, query.method) {
             (
                 Compat::Course,
-                Method::OptimalSuccess | Method::OptimalUnits | Method::OptimalInputs,
+                Method::OptimalSuccess
+                | Method::OptimalUnits
+                | Method::OptimalInputs
+                | Method::OptimalShared,
             ) => {
                 return Err(Error::Invalid(format!(
                     "method {} has no course-compatible form",
@@ -59,6 +64,13 @@ impl Context<'_> {
                     p.cost = match method {
                         Method::OptimalSuccess | Method::OptimalInputs => Some(1.0),
                         Method::OptimalUnits => Some(0.0),
+                        Method::OptimalShared => {
+                            let success =
+                                self.shared_options().objective == SharedObjective::Success;
+                            p.bound = Some(if success { 1.0 } else { 0.0 });
+                            p.proven = Some(true);
+                            p.bound
+                        }
                         _ => None,
                     };
                     p
@@ -73,6 +85,7 @@ impl Context<'_> {
                         Method::GreedySuccess | Method::GreedyInputs => {
                             greedy::plan(self, goal, query)?
                         }
+                        Method::OptimalShared => shared::plan(self, goal, query)?,
                         _ => optimal::plan(self, goal, query)?,
                     }
                 }

@@ -36,6 +36,12 @@ pub struct Plan {
     pub unrated: Option<u32>,
     /// Optimal methods: the optimum of the cost they minimise.
     pub cost: Option<f64>,
+    /// `optimal-shared`: the proven bound on `cost` (a lower bound on the unit count, an
+    /// upper bound on the success), equal to `cost` when `proven`.
+    pub bound: Option<f64>,
+    /// `optimal-shared`: whether `cost` is proven optimal (false when a limit stopped the
+    /// search first).
+    pub proven: Option<bool>,
     pub leaf_inputs: usize,
     pub expanded: u64,
     pub peak_frontier: usize,
@@ -56,10 +62,18 @@ impl Plan {
             success: None,
             unrated: None,
             cost: None,
+            bound: None,
+            proven: None,
             leaf_inputs: 0,
             expanded: 0,
             peak_frontier: 0,
             seconds: 0.0,
         }
+    }
+
+    /// `optimal-shared`: how far the cost may be from the optimum, `|cost - bound|` (0 when
+    /// proven).
+    pub fn gap(&self) -> Option<f64> {
+        Some((self.cost? - self.bound?).abs())
     }
 }

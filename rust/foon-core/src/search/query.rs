@@ -15,10 +15,11 @@ pub enum Method {
     OptimalSuccess,
     OptimalUnits,
     OptimalInputs,
+    OptimalShared,
 }
 
 impl Method {
-    pub const ALL: [Method; 7] = [
+    pub const ALL: [Method; 8] = [
         Self::Bfs,
         Self::Ids,
         Self::GreedySuccess,
@@ -26,6 +27,7 @@ impl Method {
         Self::OptimalSuccess,
         Self::OptimalUnits,
         Self::OptimalInputs,
+        Self::OptimalShared,
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -37,6 +39,7 @@ impl Method {
             Self::OptimalSuccess => "optimal-success",
             Self::OptimalUnits => "optimal-units",
             Self::OptimalInputs => "optimal-inputs",
+            Self::OptimalShared => "optimal-shared",
         }
     }
 
