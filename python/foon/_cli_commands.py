@@ -20,7 +20,14 @@ TYPE_CHECKING = False
 if TYPE_CHECKING:
     import argparse
     from collections.abc import Iterator, Sequence
-    from typing import Any, Literal, TypeAlias
+    from typing import Any, Literal, TypeAlias, TypedDict
+
+    class SharedOptions(TypedDict, total=False):
+        """The options of ``optimal-shared`` given on the command line."""
+
+        objective: Literal["units", "success"]
+        node_limit: int
+        time_limit: float
 
     Goal: TypeAlias = foon.Object | str
     Raw: TypeAlias = tuple[str, list[str], list[str], str | None]
@@ -138,6 +145,7 @@ def plan_chunks(
     compat: Literal["course"] | None,
     count: Literal["nodes", "ingredients"],
     threads: int | None,
+    shared: SharedOptions | None = None,
 ) -> Iterator[list[foon.TaskTree | NotFound]]:
     """The plans of the goals in goal order, ``CHUNK`` goals at a time (a goal that is not
     in the FOON is a :class:`NotFound`)."""
@@ -146,16 +154,31 @@ def plan_chunks(
         ids = [r for r in chunk if isinstance(r, int)]
         try:
             planned: list[foon.TaskTree | NotFound] = list(
-                planner.plan_many(ids, method, compat=compat, count=count, threads=threads)
+                planner.plan_many(
+                    ids, method, compat=compat, count=count, threads=threads, **(shared or {})
+                )
                 if ids
                 else []
             )
         except foon.MissingRateError:
             # Only some goals meet the motion: plan this chunk goal by goal, so that each of
             # them gets its own result and the output stays whole.
-            planned = [_plan_one(f, planner, g, method, compat, count) for g in ids]
+            planned = [_plan_one(f, planner, g, method, compat, count, shared) for g in ids]
         trees = iter(planned)
         yield [next(trees) if isinstance(r, int) else r for r in chunk]
+
+
+def shared_options(args: argparse.Namespace) -> SharedOptions:
+    """``--objective``, ``--node-limit`` and ``--time-limit``, as given (the core refuses
+    them with another method)."""
+    opts: SharedOptions = {}
+    if args.objective is not None:
+        opts["objective"] = args.objective
+    if args.node_limit is not None:
+        opts["node_limit"] = args.node_limit
+    if args.time_limit is not None:
+        opts["time_limit"] = args.time_limit
+    return opts
 
 
 def _plan_one(
@@ -165,9 +188,10 @@ def _plan_one(
     method: str,
     compat: Literal["course"] | None,
     count: Literal["nodes", "ingredients"],
+    shared: SharedOptions | None = None,
 ) -> foon.TaskTree | NotFound:
     try:
-        return planner.plan(goal, method, compat=compat, count=count)
+        return planner.plan(goal, method, compat=compat, count=count, **(shared or {}))
     except foon.MissingRateError as e:
         return NotFound(f.object(goal), one_line(str(e)))
 
@@ -261,7 +285,14 @@ def cmd_plan(args: argparse.Namespace) -> int:
     i = 0
     try:
         for chunk in plan_chunks(
-            f, planner, goals, args.method, args.compat, args.count, args.threads
+            f,
+            planner,
+            goals,
+            args.method,
+            args.compat,
+            args.count,
+            args.threads,
+            shared_options(args),
         ):
             notes = []
             for t in chunk:

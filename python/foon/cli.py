@@ -294,6 +294,23 @@ def _plan_options(pl: argparse.ArgumentParser) -> None:
     pl.add_argument(
         "--threads", type=_threads, metavar="N", help="threads for many goals (default: all cores)"
     )
+    pl.add_argument(
+        "--objective",
+        choices=["units", "success"],
+        help="optimal-shared: fewest distinct units, or best success over them (default: units)",
+    )
+    pl.add_argument(
+        "--node-limit",
+        type=int,
+        metavar="N",
+        help="optimal-shared: stop after N search nodes (deterministic)",
+    )
+    pl.add_argument(
+        "--time-limit",
+        type=float,
+        metavar="S",
+        help="optimal-shared: stop after S seconds (the best tree so far, its bound and gap)",
+    )
     pl.add_argument("--k", type=int, metavar="K", help="optimal-*: the K best trees, in cost order")
     pl.add_argument("--diverse", action="store_true", help="--k: penalise units of earlier trees")
     pl.add_argument(

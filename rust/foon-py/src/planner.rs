@@ -87,7 +87,6 @@ impl PyPlanner {
             node_limit,
             time_limit,
         };
-        shared.check().map_err(PyFoonErr)?;
         let method = str_field("method", method)?;
         let compat = str_field("compat", compat)?;
         let count = str_field("count", count)?;
@@ -96,6 +95,7 @@ impl PyPlanner {
             compat: compat.parse().map_err(PyFoonErr)?,
             count: count.parse().map_err(PyFoonErr)?,
         };
+        shared.check_for(query.method).map_err(PyFoonErr)?;
         for &g in &goals {
             check_object(&self.foon, g)?;
         }

@@ -61,6 +61,18 @@ pub struct SharedOptions {
 impl SharedOptions {
     /// Checks the limits (a time limit must be a non-negative number).
     pub fn check(&self) -> Result<()> {
+        self.check_for(Method::OptimalShared)
+    }
+
+    /// Checks the limits, and that options other than the defaults are given only to
+    /// `optimal-shared` (another method would ignore them).
+    pub fn check_for(&self, method: Method) -> Result<()> {
+        if method != Method::OptimalShared && *self != Self::default() {
+            return Err(Error::Invalid(format!(
+                "the objective, node limit and time limit are options of optimal-shared, not of {}",
+                method.as_str()
+            )));
+        }
         match self.time_limit {
             Some(t) if t.is_nan() || t < 0.0 => Err(Error::Invalid(format!(
                 "the time limit is {t}, not a number of seconds >= 0"
