@@ -48,6 +48,7 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
+    from foon._explain import GoalExplanation, Similar
     from foon._merge import MergeReport, load_merged, merge, merge_report
     from foon._synth import (
         MAX_SYNTH_UNITS,
@@ -74,6 +75,7 @@ __all__ = [
     "FoonError",
     "FoonWarning",
     "FunctionalUnit",
+    "GoalExplanation",
     "GoalNotFoundError",
     "Kitchen",
     "MergeReport",
@@ -83,6 +85,7 @@ __all__ = [
     "OutputError",
     "ParseError",
     "Planner",
+    "Similar",
     "SynthReport",
     "TaskTree",
     "TreeCheck",
@@ -115,6 +118,7 @@ _LAZY: dict[str, str] = {
         "foon._synth",
     ),
     **dict.fromkeys(("MergeReport", "load_merged", "merge", "merge_report"), "foon._merge"),
+    **dict.fromkeys(("GoalExplanation", "Similar"), "foon._explain"),
 }
 
 
@@ -1210,6 +1214,33 @@ class Foon:
         p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
         return p.plan_many(goals, method, compat=compat, count=count, threads=threads)
 
+    def explain(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike = None,
+        method: Method | str | None = None,
+        *,
+        count: Literal["nodes", "ingredients"] = "nodes",
+        motions: MotionsLike = None,
+        utensils: UtensilsLike = None,
+        default_rate: float | None = None,
+    ) -> GoalExplanation:
+        """Why ``goal`` can or cannot be made from ``kitchen``: whether it is in the
+        kitchen, derivable (its rank and the best tree of ``method``, a sound method;
+        default ``optimal-success`` with rates, else ``optimal-units``) or blocked (the
+        shopping list, what blocks each producer, the blocking cycle and what would unblock
+        it). See METHODS.md, "Explaining a goal"."""
+        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        return p.explain(goal, method, count=count)
+
+    def find_similar(self, text: str, k: int = 10) -> list[Similar]:
+        """The ``k`` objects most similar to a free-text query such as ``"chopped onion in
+        bowl"`` (label, states and container), best first. The index is built on the first
+        call, once per FOON."""
+        from foon import _explain
+
+        return _explain.find_similar(self, text, k)
+
     def planner(
         self,
         kitchen: KitchenLike = None,
@@ -1352,6 +1383,21 @@ class Planner:
         ids = [self.foon.goal_id(g) for g in goals]
         raw = self._native.plan(ids, method, compat or "sound", count, threads)
         return [TaskTree(self.foon, d, self) for d in raw]
+
+    def explain(
+        self,
+        goal: GoalLike,
+        method: Method | str | None = None,
+        *,
+        count: Literal["nodes", "ingredients"] = "nodes",
+    ) -> GoalExplanation:
+        """Explains one goal (see :meth:`Foon.explain`)."""
+        if method is None:
+            rated = self.motions is not None or self.default_rate is not None
+            method = "optimal-success" if rated else "optimal-units"
+        from foon import _explain
+
+        return _explain.explain(self, self.foon.goal_id(goal), str(method), count)
 
     def ranks(self) -> list[int | None]:
         """Rank of every object: the fewest parallel steps that make it from the kitchen

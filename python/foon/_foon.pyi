@@ -2,10 +2,11 @@
 
 import os
 from collections.abc import Iterable, Sequence
-from typing import Any, TypeAlias, final
+from typing import Any, Literal, TypeAlias, final
 
 __all__ = [
     "MAX_PICTURE_NODES",
+    "FindIndex",
     "Foon",
     "FoonError",
     "GoalNotFoundError",
@@ -20,6 +21,7 @@ __all__ = [
     "check",
     "check_json",
     "check_rates",
+    "explain",
     "explanation",
     "formats",
     "load_objects",
@@ -272,6 +274,25 @@ def write_comparison(
     title: str | None = None,
 ) -> bytes: ...
 def explanation(foon: Foon, plan: Plan) -> str: ...
+def explain(
+    planner: Planner, goal: int, method: str, count: str
+) -> tuple[
+    Literal["in-kitchen", "derivable", "blocked"],
+    int | None,
+    Plan | None,
+    bool,
+    list[int],
+    list[tuple[int, list[tuple[int, Literal["missing", "cycle", "not-derivable"], bool]]]],
+    list[int],
+    list[int],
+    list[tuple[int, bool]],
+    str,
+]: ...
+
+@final
+class FindIndex:
+    def __new__(cls, foon: Foon) -> FindIndex: ...
+    def find(self, text: str, k: int) -> list[tuple[int, float]]: ...
 
 @final
 class TreeWriter:

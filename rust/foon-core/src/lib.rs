@@ -13,6 +13,8 @@
 pub mod atomic;
 pub mod error;
 pub mod evaluate;
+pub mod explain;
+pub mod find;
 mod forward;
 pub mod index;
 pub mod kitchen;
