@@ -8,8 +8,10 @@
 //!
 //! - **label**: the best similarity of `l` to a run of consecutive words of the main part
 //!   (the run is then used up);
-//! - **states**: each remaining word's best similarity to a state of `S`, summed and divided
-//!   by the larger of the number of remaining words and `|S|` (1 when both are 0);
+//! - **states**: the larger of (each remaining word's best similarity to a state of `S`,
+//!   summed and divided by the larger of the number of remaining words and `|S|`) and the
+//!   similarity of the remaining words to the states, each joined with spaces in order (for
+//!   states of several words, `over sink`); 1 when both are empty;
 //! - **container**: the similarity of the query's container to `c` (0 when the object has
 //!   none); without a container in the query, 1 for an object without one and 0.5 for one
 //!   with one;
@@ -198,7 +200,8 @@ impl FindIndex {
                         .iter()
                         .map(|w| states.iter().map(|s| sim(w, s)).fold(0.0, f64::max))
                         .sum();
-                    sum / rest.len().max(states.len()) as f64
+                    let per_word = sum / rest.len().max(states.len()) as f64;
+                    per_word.max(sim(&rest.join(" "), &states.join(" ")))
                 };
                 let c = foon.container(o);
                 let cs = match (&q.container, c) {
