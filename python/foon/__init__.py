@@ -655,6 +655,12 @@ class TaskTree:
         return self._plan.count
 
     @property
+    def level(self) -> int:
+        """The identity level kitchen items and the goal were matched at (1, 2 or 3): the tree
+        is sound at that level (METHODS.md, "Hierarchy levels")."""
+        return 3 if self.planner is None else self.planner.level
+
+    @property
     def solved(self) -> bool:
         return self._plan.solved
 
@@ -1184,14 +1190,19 @@ class Foon:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> TaskTree:
         """Plans a task tree for ``goal`` from ``kitchen``.
 
         ``method``: ``ids`` (default), ``greedy-success``, ``greedy-inputs``,
         ``optimal-success``, ``optimal-units``, ``optimal-inputs`` or ``bfs``. Sound unless
         ``compat="course"``, which reproduces the course code's trees byte for byte.
+        ``level`` (1, 2 or 3, the identity levels of merging): kitchen items and the goal
+        match every object equal to them at that level (METHODS.md, "Hierarchy levels").
         """
-        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        p = self.planner(
+            kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+        )
         return p.plan(goal, method, compat=compat, count=count)
 
     def plan_many(
@@ -1224,13 +1235,16 @@ class Foon:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> GoalExplanation:
         """Why ``goal`` can or cannot be made from ``kitchen``: whether it is in the
         kitchen, derivable (its rank and the best tree of ``method``, a sound method;
         default ``optimal-success`` with rates, else ``optimal-units``) or blocked (the
         shopping list, what blocks each producer, the blocking cycle and what would unblock
-        it). See METHODS.md, "Explaining a goal"."""
-        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        it). See METHODS.md, "Explaining a goal"; ``level`` as for :meth:`plan`."""
+        p = self.planner(
+            kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+        )
         return p.explain(goal, method, count=count)
 
     def find_similar(self, text: str, k: int = 10) -> list[Similar]:
@@ -1248,9 +1262,13 @@ class Foon:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> Planner:
         """Prepares the kitchen, utensils and motion rates once, for many plans."""
-        return Planner(self, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        return Planner(
+            self, kitchen, motions=motions, utensils=utensils, default_rate=default_rate,
+            level=level,
+        )  # fmt: skip
 
     def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
         """Rank of every object from the kitchen: the fewest parallel steps that make it
@@ -1303,8 +1321,8 @@ class Planner:
     goals without paying for the preparation again (it is what :meth:`Foon.plan` builds
     for each call). It pickles (the preparation is redone on loading)."""
 
-    __slots__ = ("__weakref__", "_native", "default_rate", "foon", "kitchen", "motions",
-                 "utensils")  # fmt: skip
+    __slots__ = ("__weakref__", "_native", "default_rate", "foon", "kitchen", "level",
+                 "motions", "utensils")  # fmt: skip
 
     def __init__(
         self,
@@ -1314,9 +1332,13 @@ class Planner:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> None:
         if not isinstance(foon, Foon):
             raise TypeError(f"foon must be a Foon, not {_type(foon)}")
+        if isinstance(level, bool) or level not in (1, 2, 3):
+            raise ValueError(f"level must be 1, 2 or 3, not {level!r}")
+        self.level = level
         self.foon = foon
         self.kitchen = _as_kitchen(kitchen)
         self.motions = _as_rates(motions)
@@ -1328,6 +1350,7 @@ class Planner:
             self.utensils,
             None if self.motions is None else list(self.motions.items()),
             default_rate,
+            level,
         )
 
     def __repr__(self) -> str:
@@ -1340,18 +1363,19 @@ class Planner:
     def __reduce__(self) -> tuple[Any, ...]:
         return (
             _restore_planner,
-            (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate),
+            (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate, self.level),
         )
 
     def _key(self) -> tuple[Any, ...]:
-        return (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate)
+        return (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate,
+                self.level)  # fmt: skip
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Planner) and self._key() == other._key()
 
     def __hash__(self) -> int:
         return hash((self.foon, self.kitchen, self.motions, tuple(self.utensils),
-                     self.default_rate))  # fmt: skip
+                     self.default_rate, self.level))  # fmt: skip
 
     def plan(
         self,
@@ -1362,7 +1386,7 @@ class Planner:
         count: Literal["nodes", "ingredients"] = "nodes",
     ) -> TaskTree:
         """Plans one goal (see :meth:`Foon.plan`)."""
-        raw = self._native.plan([self.foon.goal_id(goal)], method, compat or "sound", count, 1)
+        raw = self._native.plan([self.goal_id(goal)], method, compat or "sound", count, 1)
         return TaskTree(self.foon, raw[0], self)
 
     def plan_many(
@@ -1380,7 +1404,7 @@ class Planner:
         variable, else all cores. The trees are the same for every thread count. Ctrl-C stops
         the batch (``KeyboardInterrupt``)."""
         _check_goals(goals)
-        ids = [self.foon.goal_id(g) for g in goals]
+        ids = [self.goal_id(g) for g in goals]
         raw = self._native.plan(ids, method, compat or "sound", count, threads)
         return [TaskTree(self.foon, d, self) for d in raw]
 
@@ -1397,7 +1421,21 @@ class Planner:
             method = "optimal-success" if rated else "optimal-units"
         from foon import _explain
 
-        return _explain.explain(self, self.foon.goal_id(goal), str(method), count)
+        return _explain.explain(self, self.goal_id(goal), str(method), count)
+
+    def goal_id(self, goal: GoalLike) -> int:
+        """The goal's object id (see :meth:`Foon.goal_id`); below level 3, the object that
+        stands for it at the level (METHODS.md, "Hierarchy levels"): an object id is that
+        object, a label stands for the label-only object."""
+        if self.level == 3 or (isinstance(goal, int) and not isinstance(goal, bool)):
+            return self.foon.goal_id(goal)
+        if isinstance(goal, str):
+            o = Object(goal)
+        elif isinstance(goal, Object | Mapping):
+            o = _as_object(goal, "goal")
+        else:
+            return self.foon.goal_id(goal)
+        return int(_foon.goal_at_level(self._native, o._tuple(), self.level))
 
     def ranks(self) -> list[int | None]:
         """Rank of every object: the fewest parallel steps that make it from the kitchen
@@ -1411,8 +1449,11 @@ def _restore_planner(
     motions: MotionRates | None,
     utensils: list[str],
     default_rate: float | None,
+    level: Literal[1, 2, 3] = 3,
 ) -> Planner:
-    return Planner(foon, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+    return Planner(
+        foon, kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+    )
 
 
 class Finding(_Frozen):

@@ -32,6 +32,14 @@ def add_explain_options(sp: argparse.ArgumentParser) -> None:
     sp.add_argument("--count", choices=["nodes", "ingredients"], default="nodes")
     sp.add_argument("--default-rate", type=float, default=None, metavar="R",
                     help="success rate of motions missing from --motions")  # fmt: skip
+    sp.add_argument(
+        "--level",
+        type=int,
+        choices=(1, 2, 3),
+        default=3,
+        help="identity level for matching the kitchen and the goal: 3 full identity "
+        "(default), 2 ingredients ignored, 1 labels only",
+    )
     sp.add_argument("--json", action="store_true", help="print the explanation as JSON")
 
 
@@ -40,7 +48,13 @@ def cmd_explain(args: argparse.Namespace) -> int:
     goals = read_raw_goals(args, ex)
     if len(goals) != 1:
         raise UsageError("foon explain takes exactly one goal")
-    planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
+    planner = f.planner(
+        kitchen,
+        motions=motions,
+        utensils=utensils,
+        default_rate=args.default_rate,
+        level=args.level,
+    )
     try:
         e = planner.explain(as_goal(goals[0]), args.method, count=args.count)
     except foon.GoalNotFoundError as err:

@@ -24,6 +24,7 @@ __all__ = [
     "explain",
     "explanation",
     "formats",
+    "goal_at_level",
     "load_objects",
     "load_rates",
     "load_utensils",
@@ -200,6 +201,7 @@ class Planner:
         utensils: list[str],
         rates: list[tuple[str, float]] | None = None,
         default_rate: float | None = None,
+        level: int = 3,
     ) -> Planner: ...
     def plan(
         self, goals: list[int], method: str, compat: str, count: str, threads: int | None = None
@@ -288,6 +290,9 @@ def explain(
     list[tuple[int, bool]],
     str,
 ]: ...
+def goal_at_level(
+    planner: Planner, goal: tuple[str, list[str], list[str], str | None], level: int
+) -> int: ...
 
 @final
 class FindIndex:

@@ -18,6 +18,7 @@ pub mod find;
 mod forward;
 pub mod index;
 pub mod kitchen;
+pub mod levels;
 pub mod lint;
 pub mod merge;
 pub mod model;

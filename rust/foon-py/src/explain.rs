@@ -8,7 +8,7 @@ use foon_core::find::FindIndex;
 use foon_core::{Context, Query};
 use pyo3::prelude::*;
 
-use crate::convert::str_field;
+use crate::convert::{ObjTuple, spec_of, str_field};
 use crate::errors::{PyFoonErr, enter};
 use crate::foon::{PyFoon, check_object};
 use crate::plan::PyPlan;
@@ -111,4 +111,21 @@ impl PyFindIndex {
                 .collect()
         })
     }
+}
+
+/// The object that stands for a goal (an object's fields) at identity `level` with the
+/// planner's kitchen (see `foon_core::levels::goal_at_level`).
+#[pyfunction]
+pub(crate) fn goal_at_level(
+    py: Python<'_>,
+    planner: &PyPlanner,
+    goal: ObjTuple,
+    level: u8,
+) -> PyResult<u32> {
+    let spec = spec_of(goal);
+    let (foon, prep) = (&*planner.foon, &*planner.prep);
+    enter(py, |cancel| {
+        let ctx = Context::with(foon, prep)?.with_cancel(cancel);
+        foon_core::levels::goal_at_level(&ctx, &spec, level)
+    })
 }

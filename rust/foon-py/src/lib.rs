@@ -23,7 +23,7 @@ mod writers;
 #[pyo3::pymodule]
 mod _foon {
     #[pymodule_export]
-    use super::explain::{PyFindIndex, explain};
+    use super::explain::{PyFindIndex, explain, goal_at_level};
     #[pymodule_export]
     use super::foon::PyFoon;
     #[pymodule_export]
