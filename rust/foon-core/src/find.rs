@@ -142,6 +142,37 @@ impl FindIndex {
         best
     }
 
+    /// The states and container part of the score (0.25 states + 0.15 container).
+    fn rest_score(
+        foon: &Foon,
+        rest: &[&str],
+        states: &[u32],
+        c: u32,
+        query_container: Option<&str>,
+    ) -> f64 {
+        let states: Vec<String> = states
+            .iter()
+            .map(|&s| foon.text(s).to_lowercase())
+            .collect();
+        let ss = if rest.is_empty() && states.is_empty() {
+            1.0
+        } else {
+            let sum: f64 = rest
+                .iter()
+                .map(|w| states.iter().map(|s| sim(w, s)).fold(0.0, f64::max))
+                .sum();
+            let per_word = sum / rest.len().max(states.len()) as f64;
+            per_word.max(sim(&rest.join(" "), &states.join(" ")))
+        };
+        let cs = match (query_container, c) {
+            (None, NONE) => 1.0,
+            (None, _) => 0.5,
+            (Some(_), NONE) => 0.0,
+            (Some(qc), c) => sim(qc, &foon.text(c).to_lowercase()),
+        };
+        0.25 * ss + 0.15 * cs
+    }
+
     /// The `k` objects most similar to `text`, best first (ties by id).
     pub fn find(&self, foon: &Foon, text: &str, k: usize) -> Vec<Found> {
         let q = parse_query(text);
@@ -175,6 +206,9 @@ impl FindIndex {
         scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         scored.truncate(LABELS);
         let mut found = Vec::new();
+        // Objects of a label differ mostly by ingredients, which the score ignores: the
+        // states and container part is computed once per (states, container).
+        let mut memo: FxHashMap<(&[u32], u32), f64> = FxHashMap::default();
         for &(ls, l, start, len) in &scored {
             let rest: Vec<&str> = q
                 .words
@@ -183,36 +217,19 @@ impl FindIndex {
                 .filter(|&(i, _)| len == 0 || i < start || i >= start + len)
                 .map(|(_, w)| w.as_str())
                 .collect();
+            memo.clear();
             let (a, b) = (
                 self.starts[l as usize] as usize,
                 self.starts[l as usize + 1] as usize,
             );
             for &o in &self.objects[a..b] {
-                let states: Vec<String> = foon
-                    .states(o)
-                    .iter()
-                    .map(|&s| foon.text(s).to_lowercase())
-                    .collect();
-                let ss = if rest.is_empty() && states.is_empty() {
-                    1.0
-                } else {
-                    let sum: f64 = rest
-                        .iter()
-                        .map(|w| states.iter().map(|s| sim(w, s)).fold(0.0, f64::max))
-                        .sum();
-                    let per_word = sum / rest.len().max(states.len()) as f64;
-                    per_word.max(sim(&rest.join(" "), &states.join(" ")))
-                };
                 let c = foon.container(o);
-                let cs = match (&q.container, c) {
-                    (None, NONE) => 1.0,
-                    (None, _) => 0.5,
-                    (Some(_), NONE) => 0.0,
-                    (Some(qc), c) => sim(qc, &foon.text(c).to_lowercase()),
-                };
+                let part = *memo.entry((foon.states(o), c)).or_insert_with(|| {
+                    Self::rest_score(foon, &rest, foon.states(o), c, q.container.as_deref())
+                });
                 found.push(Found {
                     object: o,
-                    score: 0.6 * ls + 0.25 * ss + 0.15 * cs,
+                    score: 0.6 * ls + part,
                 });
             }
         }
