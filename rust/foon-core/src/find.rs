@@ -17,7 +17,8 @@
 //!   with one;
 //! - **score** = 0.6 label + 0.25 states + 0.15 container; ties by object id.
 //!
-//! Only objects whose label is among the [`LABELS`] best labels are scored. The labels
+//! Only objects whose label is among the [`LABELS`] best labels are scored (labels in
+//! decreasing label score, stopping once no object of the next label can enter the k best). The labels
 //! compared are those sharing a trigram with a word of the query (every label when the query
 //! has no trigram), found in trigram postings over the distinct labels ([`FindIndex`], built
 //! once per FOON): a query costs the labels it touches plus the objects of the best labels,
@@ -209,7 +210,21 @@ impl FindIndex {
         // Objects of a label differ mostly by ingredients, which the score ignores: the
         // states and container part is computed once per (states, container).
         let mut memo: FxHashMap<(&[u32], u32), f64> = FxHashMap::default();
+        // Labels in decreasing label score: an object scores at most 0.6 ls + 0.4, so once
+        // that is below the k-th best score found, no later label can enter the k best.
+        let by_score =
+            |a: &Found, b: &Found| b.score.total_cmp(&a.score).then(a.object.cmp(&b.object));
         for &(ls, l, start, len) in &scored {
+            if found.len() >= k {
+                if found.len() > k {
+                    found.select_nth_unstable_by(k - 1, by_score);
+                    found.truncate(k);
+                }
+                let kth = found.iter().map(|f| f.score).fold(f64::INFINITY, f64::min);
+                if 0.6 * ls + 0.4 < kth {
+                    break;
+                }
+            }
             let rest: Vec<&str> = q
                 .words
                 .iter()
@@ -233,8 +248,11 @@ impl FindIndex {
                 });
             }
         }
-        found.sort_by(|a, b| b.score.total_cmp(&a.score).then(a.object.cmp(&b.object)));
-        found.truncate(k);
+        if found.len() > k {
+            found.select_nth_unstable_by(k - 1, by_score);
+            found.truncate(k);
+        }
+        found.sort_by(by_score);
         found
     }
 }
