@@ -31,6 +31,9 @@ use crate::index::{Foon, NONE};
 /// How many of the best-matching labels have their objects scored.
 pub const LABELS: usize = 16;
 
+/// How many labels (those sharing the most trigrams with the query) are compared.
+pub const CANDIDATES: usize = 512;
+
 /// The candidate index of a FOON: its distinct labels (lowercase), trigram postings over
 /// them, and the objects of each label.
 pub struct FindIndex {
@@ -180,23 +183,35 @@ impl FindIndex {
         if k == 0 || self.labels.is_empty() {
             return Vec::new();
         }
-        // Candidate labels: those sharing a trigram with a word (or every label).
-        let mut seen = vec![false; self.labels.len()];
-        let mut cands: Vec<u32> = Vec::new();
+        // Candidate labels: the [`CANDIDATES`] sharing the most trigrams with the words (ties:
+        // first label first); without a shared trigram, those sharing a pair of letters.
+        let mut hits: FxHashMap<u32, u32> = FxHashMap::default();
         for w in &q.words {
             trigrams(w, |t| {
                 if let Some(ls) = self.trigrams.get(&t) {
                     for &l in ls {
-                        if !std::mem::replace(&mut seen[l as usize], true) {
-                            cands.push(l);
-                        }
+                        *hits.entry(l).or_default() += 1;
                     }
                 }
             });
         }
-        if cands.is_empty() {
-            cands = (0..self.labels.len() as u32).collect();
+        if hits.is_empty() {
+            for (i, l) in self.labels.iter().enumerate() {
+                let n = q
+                    .words
+                    .iter()
+                    .flat_map(|w| w.as_bytes().windows(2))
+                    .filter(|p| l.as_bytes().windows(2).any(|x| x == *p))
+                    .count();
+                if n > 0 {
+                    hits.insert(i as u32, n as u32);
+                }
+            }
         }
+        let mut ranked: Vec<(u32, u32)> = hits.into_iter().collect();
+        ranked.sort_unstable_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        ranked.truncate(CANDIDATES);
+        let cands: Vec<u32> = ranked.into_iter().map(|(l, _)| l).collect();
         let mut scored: Vec<(f64, u32, usize, usize)> = cands
             .iter()
             .map(|&l| {
