@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
+    from foon._explain import GoalExplanation, Similar
     from foon._kbest import RankedTree
     from foon._merge import MergeReport, load_merged, merge, merge_report
     from foon._synth import (
@@ -76,6 +77,7 @@ __all__ = [
     "FoonError",
     "FoonWarning",
     "FunctionalUnit",
+    "GoalExplanation",
     "GoalNotFoundError",
     "Kitchen",
     "MergeReport",
@@ -86,6 +88,7 @@ __all__ = [
     "ParseError",
     "Planner",
     "RankedTree",
+    "Similar",
     "SynthReport",
     "TaskTree",
     "TreeCheck",
@@ -119,6 +122,7 @@ _LAZY: dict[str, str] = {
     ),
     **dict.fromkeys(("MergeReport", "load_merged", "merge", "merge_report"), "foon._merge"),
     "RankedTree": "foon._kbest",
+    **dict.fromkeys(("GoalExplanation", "Similar"), "foon._explain"),
 }
 
 
@@ -653,6 +657,12 @@ class TaskTree:
     def count(self) -> str:
         """``"nodes"`` or ``"ingredients"``."""
         return self._plan.count
+
+    @property
+    def level(self) -> int:
+        """The identity level kitchen items and the goal were matched at (1, 2 or 3): the tree
+        is sound at that level (METHODS.md, "Hierarchy levels")."""
+        return 3 if self.planner is None else self.planner.level
 
     @property
     def solved(self) -> bool:
@@ -1204,6 +1214,7 @@ class Foon:
         objective: Literal["units", "success"] | None = None,
         node_limit: int | None = None,
         time_limit: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> TaskTree:
         """Plans a task tree for ``goal`` from ``kitchen``.
 
@@ -1211,9 +1222,13 @@ class Foon:
         ``optimal-success``, ``optimal-units``, ``optimal-inputs``, ``optimal-shared`` or
         ``bfs``. Sound unless ``compat="course"``, which reproduces the course code's trees
         byte for byte. ``objective`` (``units`` by default, or ``success``), ``node_limit``
-        and ``time_limit`` (seconds) are the options of ``optimal-shared``.
+        and ``time_limit`` (seconds) are the options of ``optimal-shared``. ``level`` (1, 2
+        or 3, the identity levels of merging): kitchen items and the goal match every object
+        equal to them at that level (METHODS.md, "Hierarchy levels").
         """
-        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        p = self.planner(
+            kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+        )
         return p.plan(
             goal,
             method,
@@ -1239,12 +1254,15 @@ class Foon:
         objective: Literal["units", "success"] | None = None,
         node_limit: int | None = None,
         time_limit: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> list[TaskTree]:
         """Plans many goals in one call: the kitchen is matched once, the interpreter is
         released, and the goals are spread over ``threads`` threads (see
-        :meth:`Planner.plan_many`)."""
+        :meth:`Planner.plan_many`; ``level`` as for :meth:`plan`)."""
         _check_goals(goals)
-        p = self.planner(kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        p = self.planner(
+            kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+        )
         return p.plan_many(
             goals,
             method,
@@ -1285,6 +1303,36 @@ class Foon:
         p = self.planner(kitchen, utensils=utensils)
         return p.paths(goal, max_trees=max_trees, max_height=max_height)
 
+    def explain(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike = None,
+        method: Method | str | None = None,
+        *,
+        count: Literal["nodes", "ingredients"] = "nodes",
+        motions: MotionsLike = None,
+        utensils: UtensilsLike = None,
+        default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
+    ) -> GoalExplanation:
+        """Why ``goal`` can or cannot be made from ``kitchen``: whether it is in the
+        kitchen, derivable (its rank and the best tree of ``method``, a sound method;
+        default ``optimal-success`` with rates, else ``optimal-units``) or blocked (the
+        shopping list, what blocks each producer, the blocking cycle and what would unblock
+        it). See METHODS.md, "Explaining a goal"; ``level`` as for :meth:`plan`."""
+        p = self.planner(
+            kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+        )
+        return p.explain(goal, method, count=count)
+
+    def find_similar(self, text: str, k: int = 10) -> list[Similar]:
+        """The ``k`` objects most similar to a free-text query such as ``"chopped onion in
+        bowl"`` (label, states and container), best first. The index is built on the first
+        call, once per FOON."""
+        from foon import _explain
+
+        return _explain.find_similar(self, text, k)
+
     def planner(
         self,
         kitchen: KitchenLike = None,
@@ -1292,9 +1340,13 @@ class Foon:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> Planner:
         """Prepares the kitchen, utensils and motion rates once, for many plans."""
-        return Planner(self, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+        return Planner(
+            self, kitchen, motions=motions, utensils=utensils, default_rate=default_rate,
+            level=level,
+        )  # fmt: skip
 
     def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
         """Rank of every object from the kitchen: the fewest parallel steps that make it
@@ -1347,8 +1399,8 @@ class Planner:
     goals without paying for the preparation again (it is what :meth:`Foon.plan` builds
     for each call). It pickles (the preparation is redone on loading)."""
 
-    __slots__ = ("__weakref__", "_native", "default_rate", "foon", "kitchen", "motions",
-                 "utensils")  # fmt: skip
+    __slots__ = ("__weakref__", "_native", "default_rate", "foon", "kitchen", "level",
+                 "motions", "utensils")  # fmt: skip
 
     def __init__(
         self,
@@ -1358,9 +1410,13 @@ class Planner:
         motions: MotionsLike = None,
         utensils: UtensilsLike = None,
         default_rate: float | None = None,
+        level: Literal[1, 2, 3] = 3,
     ) -> None:
         if not isinstance(foon, Foon):
             raise TypeError(f"foon must be a Foon, not {_type(foon)}")
+        if isinstance(level, bool) or level not in (1, 2, 3):
+            raise ValueError(f"level must be 1, 2 or 3, not {level!r}")
+        self.level = level
         self.foon = foon
         self.kitchen = _as_kitchen(kitchen)
         self.motions = _as_rates(motions)
@@ -1372,6 +1428,7 @@ class Planner:
             self.utensils,
             None if self.motions is None else list(self.motions.items()),
             default_rate,
+            level,
         )
 
     def __repr__(self) -> str:
@@ -1384,18 +1441,19 @@ class Planner:
     def __reduce__(self) -> tuple[Any, ...]:
         return (
             _restore_planner,
-            (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate),
+            (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate, self.level),
         )
 
     def _key(self) -> tuple[Any, ...]:
-        return (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate)
+        return (self.foon, self.kitchen, self.motions, self.utensils, self.default_rate,
+                self.level)  # fmt: skip
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Planner) and self._key() == other._key()
 
     def __hash__(self) -> int:
         return hash((self.foon, self.kitchen, self.motions, tuple(self.utensils),
-                     self.default_rate))  # fmt: skip
+                     self.default_rate, self.level))  # fmt: skip
 
     def plan(
         self,
@@ -1410,7 +1468,7 @@ class Planner:
     ) -> TaskTree:
         """Plans one goal (see :meth:`Foon.plan`)."""
         raw = self._native.plan(
-            [self.foon.goal_id(goal)],
+            [self.goal_id(goal)],
             method,
             compat or "sound",
             count,
@@ -1439,7 +1497,7 @@ class Planner:
         variable, else all cores. The trees are the same for every thread count. Ctrl-C stops
         the batch (``KeyboardInterrupt``)."""
         _check_goals(goals)
-        ids = [self.foon.goal_id(g) for g in goals]
+        ids = [self.goal_id(g) for g in goals]
         raw = self._native.plan(
             ids, method, compat or "sound", count, threads, objective, node_limit, time_limit
         )
@@ -1459,7 +1517,7 @@ class Planner:
         penalise the units of the earlier trees (see METHODS.md, "The k best trees")."""
         from . import _kbest
 
-        return _kbest.plan_k(self, self.foon.goal_id(goal), k, method, diverse)
+        return _kbest.plan_k(self, self.goal_id(goal), k, method, diverse)
 
     def paths(
         self, goal: GoalLike, *, max_trees: int | None = None, max_height: int | None = None
@@ -1468,7 +1526,36 @@ class Planner:
         leaving out those higher than ``max_height`` and stopping after ``max_trees``."""
         from . import _kbest
 
-        return _kbest.paths(self, self.foon.goal_id(goal), max_trees, max_height)
+        return _kbest.paths(self, self.goal_id(goal), max_trees, max_height)
+
+    def explain(
+        self,
+        goal: GoalLike,
+        method: Method | str | None = None,
+        *,
+        count: Literal["nodes", "ingredients"] = "nodes",
+    ) -> GoalExplanation:
+        """Explains one goal (see :meth:`Foon.explain`)."""
+        if method is None:
+            rated = self.motions is not None or self.default_rate is not None
+            method = "optimal-success" if rated else "optimal-units"
+        from foon import _explain
+
+        return _explain.explain(self, self.goal_id(goal), str(method), count)
+
+    def goal_id(self, goal: GoalLike) -> int:
+        """The goal's object id (see :meth:`Foon.goal_id`); below level 3, the object that
+        stands for it at the level (METHODS.md, "Hierarchy levels"): an object id is that
+        object, a label stands for the label-only object."""
+        if self.level == 3 or (isinstance(goal, int) and not isinstance(goal, bool)):
+            return self.foon.goal_id(goal)
+        if isinstance(goal, str):
+            o = Object(goal)
+        elif isinstance(goal, Object | Mapping):
+            o = _as_object(goal, "goal")
+        else:
+            return self.foon.goal_id(goal)
+        return int(_foon.goal_at_level(self._native, o._tuple(), self.level))
 
     def ranks(self) -> list[int | None]:
         """Rank of every object: the fewest parallel steps that make it from the kitchen
@@ -1482,8 +1569,11 @@ def _restore_planner(
     motions: MotionRates | None,
     utensils: list[str],
     default_rate: float | None,
+    level: Literal[1, 2, 3] = 3,
 ) -> Planner:
-    return Planner(foon, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
+    return Planner(
+        foon, kitchen, motions=motions, utensils=utensils, default_rate=default_rate, level=level
+    )
 
 
 class Finding(_Frozen):

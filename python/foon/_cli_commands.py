@@ -126,12 +126,16 @@ class NotFound:
         return {"label": self.goal} if isinstance(self.goal, str) else self.goal.to_dict()
 
 
-def resolve(f: foon.Foon, goals: Sequence[Goal]) -> list[int | NotFound]:
-    """Each goal's object id, or why it has none."""
+def resolve(
+    f: foon.Foon, goals: Sequence[Goal], planner: foon.Planner | None = None
+) -> list[int | NotFound]:
+    """Each goal's object id (at the planner's identity level, if given), or why it has
+    none."""
+    goal_id = f.goal_id if planner is None else planner.goal_id
     out: list[int | NotFound] = []
     for g in goals:
         try:
-            out.append(f.goal_id(g))
+            out.append(goal_id(g))
         except foon.GoalNotFoundError as e:
             out.append(NotFound(g, one_line(str(e))))
     return out
@@ -150,7 +154,7 @@ def plan_chunks(
     """The plans of the goals in goal order, ``CHUNK`` goals at a time (a goal that is not
     in the FOON is a :class:`NotFound`)."""
     for start in range(0, len(goals), CHUNK):
-        chunk = resolve(f, [as_goal(g) for g in goals[start : start + CHUNK]])
+        chunk = resolve(f, [as_goal(g) for g in goals[start : start + CHUNK]], planner)
         ids = [r for r in chunk if isinstance(r, int)]
         try:
             planned: list[foon.TaskTree | NotFound] = list(
@@ -269,7 +273,13 @@ def cmd_plan(args: argparse.Namespace) -> int:
             )
         except OutError as e:
             raise CliError(str(e)) from None
-    planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
+    planner = f.planner(
+        kitchen,
+        motions=motions,
+        utensils=utensils,
+        default_rate=args.default_rate,
+        level=args.level,
+    )
     stream: _foon.TreeWriter | None = None
     emit: _Stdout | None = None
     many = fmt == "json" or len(goals) > 1

@@ -2,10 +2,11 @@
 
 import os
 from collections.abc import Iterable, Sequence
-from typing import Any, TypeAlias, final
+from typing import Any, Literal, TypeAlias, final
 
 __all__ = [
     "MAX_PICTURE_NODES",
+    "FindIndex",
     "Foon",
     "FoonError",
     "GoalNotFoundError",
@@ -21,8 +22,10 @@ __all__ = [
     "check",
     "check_json",
     "check_rates",
+    "explain",
     "explanation",
     "formats",
+    "goal_at_level",
     "load_objects",
     "load_rates",
     "load_utensils",
@@ -206,6 +209,7 @@ class Planner:
         utensils: list[str],
         rates: list[tuple[str, float]] | None = None,
         default_rate: float | None = None,
+        level: int = 3,
     ) -> Planner: ...
     def plan(
         self,
@@ -306,6 +310,28 @@ def write_comparison(
     title: str | None = None,
 ) -> bytes: ...
 def explanation(foon: Foon, plan: Plan) -> str: ...
+def explain(
+    planner: Planner, goal: int, method: str, count: str
+) -> tuple[
+    Literal["in-kitchen", "derivable", "blocked"],
+    int | None,
+    Plan | None,
+    bool,
+    list[int],
+    list[tuple[int, list[tuple[int, Literal["missing", "cycle", "not-derivable"], bool]]]],
+    list[int],
+    list[int],
+    list[tuple[int, bool]],
+    str,
+]: ...
+def goal_at_level(
+    planner: Planner, goal: tuple[str, list[str], list[str], str | None], level: int
+) -> int: ...
+
+@final
+class FindIndex:
+    def __new__(cls, foon: Foon) -> FindIndex: ...
+    def find(self, text: str, k: int) -> list[tuple[int, float]]: ...
 
 @final
 class TreeWriter:

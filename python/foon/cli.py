@@ -95,11 +95,13 @@ COMMANDS = (
     "merge",
     "synth",
     "paths",
+    "explain",
+    "find",
 )
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("index", "merge", "synth", "paths")
+_OWN_MODULE = ("index", "merge", "synth", "paths", "explain", "find")
 
 
 def _columns() -> int:
@@ -226,6 +228,21 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
                 "--max-trees N, --max-height H; never prompts."
             ),
         ),
+        "explain": (
+            "explain why a goal can or cannot be made from a kitchen",
+            (
+                "Whether the goal is in the kitchen, derivable (its rank and best tree) or "
+                "blocked: the shopping list, what blocks each producer, the blocking cycle as a "
+                "chain and what would unblock it. --json for programs."
+            ),
+        ),
+        "find": (
+            "objects most similar to a free-text query",
+            (
+                "Ranks the FOON's objects by similarity of label, states and container to a "
+                'free-text query such as "chopped onion in bowl". --json for programs.'
+            ),
+        ),
         "draw": (
             "draw a FOON or the neighbourhood of one object",
             (
@@ -293,6 +310,14 @@ def _plan_options(pl: argparse.ArgumentParser) -> None:
     _picture_options(pl)
     pl.add_argument(
         "--threads", type=_threads, metavar="N", help="threads for many goals (default: all cores)"
+    )
+    pl.add_argument(
+        "--level",
+        type=int,
+        choices=[1, 2, 3],
+        default=3,
+        help="identity level for matching the kitchen and goals: 3 full (default), "
+        "2 ingredients ignored, 1 labels only",
     )
     pl.add_argument(
         "--objective",

@@ -431,6 +431,61 @@ impl Kitchen {
         ids
     }
 
+    /// The object ids of `foon` equal to an item at identity `level` (3: [`Kitchen::match_in`];
+    /// 2 and 1: [`level_key`](crate::merge::level_key), the levels of merging), sorted, each
+    /// once. An item with a label or container the FOON lacks matches nothing; at level 2, one
+    /// with a state the FOON lacks matches nothing either.
+    pub fn match_at_level(&self, foon: &Foon, level: u8) -> Result<Vec<u32>> {
+        use crate::merge::{level_key, object_level_key};
+        match level {
+            3 => return Ok(self.match_in(foon)),
+            1 | 2 => {}
+            _ => {
+                return Err(crate::Error::Invalid(format!(
+                    "level must be 1, 2 or 3 (got {level})"
+                )));
+            }
+        }
+        let table = foon.strings();
+        let map = |id: u32| table.get(self.strings.text(id)).unwrap_or(NONE);
+        let mut keys: rustc_hash::FxHashSet<(u32, u32, Vec<u32>)> =
+            rustc_hash::FxHashSet::default();
+        'items: for i in 0..self.len() {
+            let label = map(self.label[i]);
+            let container = match self.container[i] {
+                NONE => NONE,
+                c => map(c),
+            };
+            if label == NONE || (container == NONE && self.container[i] != NONE && level == 2) {
+                continue;
+            }
+            let mut states = Vec::new();
+            if level == 2 {
+                for &x in self.ids(i).0 {
+                    let m = map(x);
+                    if m == NONE {
+                        continue 'items;
+                    }
+                    states.push(m);
+                }
+                states.sort_unstable();
+            }
+            let (l, c, s) = level_key(level, label, container, &states);
+            keys.insert((l, c, s.to_vec()));
+        }
+        let mut probe = (0, 0, Vec::new());
+        Ok((0..foon.object_count() as u32)
+            .filter(|&o| {
+                let (l, c, s) = object_level_key(foon, level, o);
+                probe.0 = l;
+                probe.1 = c;
+                probe.2.clear();
+                probe.2.extend_from_slice(s);
+                keys.contains(&probe)
+            })
+            .collect())
+    }
+
     /// A fixed-width fingerprint of the set of identities: the same on every platform and
     /// for every order the items were given in (a seeded 128-bit hash of each identity, the
     /// strings length-prefixed and the multisets sorted by text, summed over the items, then

@@ -13,9 +13,12 @@
 pub mod atomic;
 pub mod error;
 pub mod evaluate;
+pub mod explain;
+pub mod find;
 mod forward;
 pub mod index;
 pub mod kitchen;
+pub mod levels;
 pub mod lint;
 pub mod merge;
 pub mod model;

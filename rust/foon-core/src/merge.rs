@@ -321,23 +321,38 @@ fn support_of(origins: &[(u32, u32)]) -> usize {
     s.len()
 }
 
+/// The identity of an object at level 1 or 2 (see the module documentation), from its
+/// label, container (`NONE` for none) and states (a multiset sorted by string id), all string
+/// ids of one FOON: (label, container, states) at level 2, (label, `NONE`, no state) at
+/// level 1. Two objects are the same at the level exactly when their keys are equal. The one
+/// definition of a level below full identity, for merging and for matching kitchens and goals
+/// ([`Kitchen::match_at_level`](crate::Kitchen::match_at_level)).
+pub fn level_key(level: u8, label: u32, container: u32, states: &[u32]) -> (u32, u32, &[u32]) {
+    if level <= 1 {
+        (label, crate::index::NONE, &[])
+    } else {
+        (label, container, states)
+    }
+}
+
+/// The level key of object `o` of `foon` at level 1 or 2 ([`level_key`]).
+pub fn object_level_key(foon: &Foon, level: u8, o: u32) -> (u32, u32, &[u32]) {
+    level_key(level, foon.label(o), foon.container(o), foon.states(o))
+}
+
 /// The level key of each object of `foon`: objects equal at `level` get the same key.
 fn object_keys(foon: &Foon, level: u8) -> Vec<u32> {
     let n = foon.object_count() as u32;
-    match level {
-        3 => (0..n).collect(),
-        1 => (0..n).map(|o| foon.label(o)).collect(),
-        _ => {
-            let mut ids: FxHashMap<(u32, u32, &[u32]), u32> = FxHashMap::default();
-            (0..n)
-                .map(|o| {
-                    let next = ids.len() as u32;
-                    *ids.entry((foon.label(o), foon.container(o), foon.states(o)))
-                        .or_insert(next)
-                })
-                .collect()
-        }
+    if level == 3 {
+        return (0..n).collect();
     }
+    let mut ids: FxHashMap<(u32, u32, &[u32]), u32> = FxHashMap::default();
+    (0..n)
+        .map(|o| {
+            let next = ids.len() as u32;
+            *ids.entry(object_level_key(foon, level, o)).or_insert(next)
+        })
+        .collect()
 }
 
 /// The FUs of `foon` grouped by identity at `level`, groups in the order of their first FU.

@@ -7,6 +7,7 @@
 
 mod convert;
 mod errors;
+mod explain;
 mod foon;
 mod json;
 mod kbest;
@@ -22,6 +23,8 @@ mod writers;
 
 #[pyo3::pymodule]
 mod _foon {
+    #[pymodule_export]
+    use super::explain::{PyFindIndex, explain, goal_at_level};
     #[pymodule_export]
     use super::foon::PyFoon;
     #[pymodule_export]

@@ -25,7 +25,7 @@ pub(crate) struct PyPlanner {
 #[pymethods]
 impl PyPlanner {
     #[new]
-    #[pyo3(signature = (foon, kitchen, utensils, rates = None, default_rate = None))]
+    #[pyo3(signature = (foon, kitchen, utensils, rates = None, default_rate = None, level = 3))]
     fn new(
         py: Python<'_>,
         foon: &PyFoon,
@@ -33,6 +33,7 @@ impl PyPlanner {
         utensils: &Bound<'_, PyAny>,
         rates: Option<&Bound<'_, PyAny>>,
         default_rate: Option<&Bound<'_, PyAny>>,
+        level: u8,
     ) -> PyResult<Self> {
         let utensils = str_list_field("utensils", utensils)?;
         let rates = rates
@@ -49,9 +50,10 @@ impl PyPlanner {
             .map_err(PyFoonErr)?;
         let f = Arc::clone(&foon.inner);
         let kitchen = &*kitchen.inner;
-        // The kitchen is matched in the core, through the FOON's string table.
+        // The kitchen is matched in the core, through the FOON's string table (at an
+        // identity level below 3: every object equal to an item at that level).
         let prep = enter(py, |_| {
-            let ids = kitchen.match_in(&f);
+            let ids = kitchen.match_at_level(&f, level)?;
             Prepared::with_objects(&f, &ids, &utensils, rates.as_ref(), default_rate)
         })?;
         Ok(Self {

@@ -1,0 +1,191 @@
+"""The typed results of :meth:`foon.Foon.explain` and :meth:`foon.Foon.find_similar`
+(computed in the core; this module only names the fields)."""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+from foon import _foon
+
+if TYPE_CHECKING:
+    from foon import Foon, Object, Planner, TaskTree
+
+Status = Literal["in-kitchen", "derivable", "blocked"]
+BlockKind = Literal["missing", "cycle", "not-derivable"]
+
+#: The objective of the shopping list (the core's failure explanation).
+SHOPPING_OBJECTIVE = "optimal-inputs from the kitchen plus every raw item"
+
+
+@dataclass(frozen=True)
+class Blocker:
+    """A needed input of a producer of the goal that cannot be made from the kitchen."""
+
+    object: Object
+    object_id: int
+    kind: BlockKind
+    #: Whether buying raw items would make it (derivable from the kitchen plus every raw
+    #: item).
+    buyable: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "object": self.object.to_dict(),
+            "object_id": self.object_id,
+            "kind": self.kind,
+            "buyable": self.buyable,
+        }
+
+
+@dataclass(frozen=True)
+class ProducerBlock:
+    """A producer of the goal and what blocks it."""
+
+    unit: int
+    motion: str
+    line: int
+    blockers: tuple[Blocker, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "unit": self.unit,
+            "motion": self.motion,
+            "line": self.line,
+            "blockers": [b.to_dict() for b in self.blockers],
+        }
+
+
+@dataclass(frozen=True)
+class Unblock:
+    """An object of the blocking cycle whose addition to the kitchen unblocks the goal
+    (``alone``), or does so together with raw items."""
+
+    object: Object
+    object_id: int
+    alone: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"object": self.object.to_dict(), "object_id": self.object_id, "alone": self.alone}
+
+
+@dataclass(frozen=True)
+class GoalExplanation:
+    """Why a goal can or cannot be made from a kitchen (see METHODS.md, "Explaining a
+    goal")."""
+
+    goal: Object
+    goal_id: int
+    status: Status
+    #: The method whose best tree is reported (``tree``).
+    objective: str
+    rank: int | None
+    #: The best tree for ``objective`` (status ``in-kitchen`` or ``derivable``).
+    tree: TaskTree | None
+    #: Blocked: whether the goal is derivable from the kitchen plus every raw item.
+    buyable: bool
+    #: Blocked and buyable: the raw items to add (see ``SHOPPING_OBJECTIVE``).
+    shopping: tuple[Object, ...]
+    producers: tuple[ProducerBlock, ...]
+    #: Blocked and not buyable: one blocking cycle from the goal (``cycle[i]`` is made by
+    #: ``cycle_units[i]``, which needs ``cycle[i + 1]``; the last object repeats one).
+    cycle: tuple[Object, ...]
+    cycle_ids: tuple[int, ...]
+    cycle_units: tuple[int, ...]
+    unblock: tuple[Unblock, ...]
+    #: The explanation for people (several lines).
+    text: str = field(repr=False)
+
+    @property
+    def derivable(self) -> bool:
+        return self.status != "blocked"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form (``foon explain --json``; fields documented in METHODS.md)."""
+        t = self.tree
+        return {
+            "goal": self.goal.to_dict(),
+            "goal_id": self.goal_id,
+            "status": self.status,
+            "objective": self.objective,
+            "rank": self.rank,
+            "tree": None
+            if t is None
+            else {
+                "units": t.units,
+                "unit_count": len(t.units),
+                "height": t.height,
+                "success": t.success,
+                "cost": t.cost,
+            },
+            "buyable": self.buyable,
+            "shopping_objective": SHOPPING_OBJECTIVE,
+            "shopping": [o.to_dict() for o in self.shopping],
+            "producers": [p.to_dict() for p in self.producers],
+            "cycle": [o.to_dict() for o in self.cycle],
+            "cycle_ids": list(self.cycle_ids),
+            "cycle_units": list(self.cycle_units),
+            "unblock": [u.to_dict() for u in self.unblock],
+        }
+
+
+def explain(planner: Planner, goal_id: int, method: str, count: str) -> GoalExplanation:
+    from foon import TaskTree
+
+    f = planner.foon
+    (status, rank, plan, buyable, shopping, producers, cycle, cycle_units, unblock, text) = (
+        _foon.explain(planner._native, goal_id, method, count)
+    )
+    units = {u.index: u for u in (f.fu(p[0]) for p in producers)}
+    return GoalExplanation(
+        goal=f.object(goal_id),
+        goal_id=goal_id,
+        status=status,
+        objective=method,
+        rank=rank,
+        tree=None if plan is None else TaskTree(f, plan, planner),
+        buyable=buyable,
+        shopping=tuple(f.object(o) for o in shopping),
+        producers=tuple(
+            ProducerBlock(
+                unit=u,
+                motion=units[u].motion,
+                line=units[u].line,
+                blockers=tuple(Blocker(f.object(o), o, kind, b) for o, kind, b in bs),
+            )
+            for u, bs in producers
+        ),
+        cycle=tuple(f.object(o) for o in cycle),
+        cycle_ids=tuple(cycle),
+        cycle_units=tuple(cycle_units),
+        unblock=tuple(Unblock(f.object(o), o, alone) for o, alone in unblock),
+        text=text,
+    )
+
+
+@dataclass(frozen=True)
+class Similar:
+    """One object found by :meth:`foon.Foon.find_similar`."""
+
+    object: Object
+    object_id: int
+    score: float
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"object": self.object.to_dict(), "object_id": self.object_id, "score": self.score}
+
+
+_indexes: weakref.WeakKeyDictionary[Foon, _foon.FindIndex] = weakref.WeakKeyDictionary()
+
+
+def find_similar(foon: Foon, text: str, k: int) -> list[Similar]:
+    if not isinstance(text, str):
+        raise TypeError(f"text must be a str, not {type(text).__name__}")
+    if isinstance(k, bool) or not isinstance(k, int) or k < 0:
+        raise ValueError(f"k must be a non-negative int, not {k!r}")
+    index = _indexes.get(foon)
+    if index is None:
+        index = _foon.FindIndex(foon._native)
+        _indexes[foon] = index
+    return [Similar(foon.object(o), o, s) for o, s in index.find(text, k)]

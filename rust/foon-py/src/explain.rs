@@ -1,0 +1,131 @@
+//! `foon._foon.explain` and `foon._foon.FindIndex`: the explanation of one goal and the
+//! similarity look-up of objects (both computed in `foon-core`).
+
+use std::sync::Arc;
+
+use foon_core::explain::Explain;
+use foon_core::find::FindIndex;
+use foon_core::{Context, Query};
+use pyo3::prelude::*;
+
+use crate::convert::{ObjTuple, spec_of, str_field};
+use crate::errors::{PyFoonErr, enter};
+use crate::foon::{PyFoon, check_object};
+use crate::plan::PyPlan;
+use crate::planner::PyPlanner;
+
+/// (unit, [(object, kind, buyable)]).
+type ProducerTuple = (u32, Vec<(u32, &'static str, bool)>);
+
+/// (status, rank, best plan, buyable, shopping, producers, cycle, cycle units,
+/// unblock [(object, alone)], text).
+type ExplainTuple = (
+    &'static str,
+    Option<u32>,
+    Option<Py<PyPlan>>,
+    bool,
+    Vec<u32>,
+    Vec<ProducerTuple>,
+    Vec<u32>,
+    Vec<u32>,
+    Vec<(u32, bool)>,
+    String,
+);
+
+/// Explains `goal` (an object id) with the planner's kitchen; `method` and `count` name the
+/// objective of the best tree.
+#[pyfunction]
+pub(crate) fn explain(
+    py: Python<'_>,
+    planner: &PyPlanner,
+    goal: u32,
+    method: &Bound<'_, PyAny>,
+    count: &Bound<'_, PyAny>,
+) -> PyResult<ExplainTuple> {
+    check_object(&planner.foon, goal)?;
+    let query = Query {
+        method: str_field("method", method)?.parse().map_err(PyFoonErr)?,
+        count: str_field("count", count)?.parse().map_err(PyFoonErr)?,
+        ..Query::default()
+    };
+    let (foon, prep) = (&*planner.foon, &*planner.prep);
+    let (e, text): (Explain, String) = enter(py, |cancel| {
+        let ctx = Context::with(foon, prep)?.with_cancel(cancel);
+        let e = foon_core::explain::explain(&ctx, goal, query)?;
+        let text = e.text(&ctx);
+        Ok((e, text))
+    })?;
+    let plan = e
+        .plan
+        .map(|plan| Py::new(py, PyPlan { plan }))
+        .transpose()?;
+    Ok((
+        e.status.as_str(),
+        e.rank,
+        plan,
+        e.buyable,
+        e.shopping,
+        e.producers
+            .into_iter()
+            .map(|p| {
+                (
+                    p.unit,
+                    p.blockers
+                        .iter()
+                        .map(|b| (b.object, b.kind.as_str(), b.buyable))
+                        .collect(),
+                )
+            })
+            .collect(),
+        e.cycle,
+        e.cycle_units,
+        e.unblock.iter().map(|u| (u.object, u.alone)).collect(),
+        text,
+    ))
+}
+
+/// The similarity index of one FOON (built once; see `foon_core::find`).
+#[pyclass(frozen, module = "foon._foon", name = "FindIndex")]
+pub(crate) struct PyFindIndex {
+    foon: Arc<foon_core::Foon>,
+    index: FindIndex,
+}
+
+#[pymethods]
+impl PyFindIndex {
+    #[new]
+    fn new(py: Python<'_>, foon: &PyFoon) -> Self {
+        let f = Arc::clone(&foon.inner);
+        let index = py.detach(|| FindIndex::build(&f));
+        Self { foon: f, index }
+    }
+
+    /// The `k` objects most similar to `text`, best first: (object id, score).
+    fn find(&self, py: Python<'_>, text: &str, k: usize) -> Vec<(u32, f64)> {
+        let (foon, index) = (&*self.foon, &self.index);
+        py.detach(|| {
+            index
+                .find(foon, text, k)
+                .into_iter()
+                .map(|f| (f.object, f.score))
+                .collect()
+        })
+    }
+}
+
+/// The object that stands for a goal (an object's fields) at identity `level` with the
+/// planner's kitchen (see `foon_core::levels::goal_at_level`).
+#[pyfunction]
+pub(crate) fn goal_at_level(
+    py: Python<'_>,
+    planner: &PyPlanner,
+    goal: ObjTuple,
+    level: u8,
+) -> PyResult<u32> {
+    let spec = spec_of(goal);
+    let (foon, prep) = (&*planner.foon, &*planner.prep);
+    enter(py, |cancel| {
+        let ctx = Context::with(foon, prep)?.with_cancel(cancel);
+        foon_core::levels::goal_at_level(&ctx, &spec, level)
+    })
+}
