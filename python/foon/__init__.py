@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
     from foon._merge import MergeReport, load_merged, merge, merge_report
+    from foon._split import Profile, Profiles, SplitResult
     from foon._synth import (
         MAX_SYNTH_UNITS,
         SYNTH_TEXT_LIMIT,
@@ -83,6 +84,9 @@ __all__ = [
     "OutputError",
     "ParseError",
     "Planner",
+    "Profile",
+    "Profiles",
+    "SplitResult",
     "SynthReport",
     "TaskTree",
     "TreeCheck",
@@ -115,6 +119,7 @@ _LAZY: dict[str, str] = {
         "foon._synth",
     ),
     **dict.fromkeys(("MergeReport", "load_merged", "merge", "merge_report"), "foon._merge"),
+    **dict.fromkeys(("Profile", "Profiles", "SplitResult"), "foon._split"),
 }
 
 
@@ -1221,6 +1226,28 @@ class Foon:
         """Prepares the kitchen, utensils and motion rates once, for many plans."""
         return Planner(self, kitchen, motions=motions, utensils=utensils, default_rate=default_rate)
 
+    def split(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike = None,
+        profiles: Profiles | Mapping[str, Any] | None = None,
+        max_human: int = 1,
+        *,
+        robot: str = "robot",
+        human: str = "human",
+        utensils: UtensilsLike = None,
+        fixed_tree: bool = False,
+    ) -> SplitResult:
+        """The robot/human split: for each budget m = 0..``max_human``, the tree and the
+        assignment of at most m of its steps to the human that maximise the tree's success
+        over all valid trees (tree cost: a sub-goal used twice is made, and counted, twice).
+        ``profiles[robot]`` gives the robot's rates, ``profiles[human]`` the human's (every
+        rate 1 when absent). ``fixed_tree=True`` adds the lab's method (the best robot tree,
+        its m lowest-rate units to the human). See ``docs/METHODS.md``."""
+        return self.planner(kitchen, utensils=utensils).split(
+            goal, profiles, max_human, robot=robot, human=human, fixed_tree=fixed_tree
+        )
+
     def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
         """Rank of every object from the kitchen: the fewest parallel steps that make it
         (None when it cannot be made)."""
@@ -1357,6 +1384,30 @@ class Planner:
         """Rank of every object: the fewest parallel steps that make it from the kitchen
         (None when it cannot be made)."""
         return list(self._native.ranks())
+
+    def split(
+        self,
+        goal: GoalLike,
+        profiles: Profiles | Mapping[str, Any] | None = None,
+        max_human: int = 1,
+        *,
+        robot: str = "robot",
+        human: str = "human",
+        fixed_tree: bool = False,
+    ) -> SplitResult:
+        """The robot/human split over this planner's kitchen and utensils (see
+        :meth:`Foon.split`; the planner's own motion rates are not used)."""
+        from foon._split import split
+
+        return split(
+            self,
+            goal,
+            {} if profiles is None else profiles,
+            max_human,
+            robot=robot,
+            human=human,
+            fixed_tree=fixed_tree,
+        )
 
 
 def _restore_planner(

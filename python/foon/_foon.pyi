@@ -23,6 +23,7 @@ __all__ = [
     "explanation",
     "formats",
     "load_objects",
+    "load_overrides",
     "load_rates",
     "load_utensils",
     "max_threads",
@@ -33,8 +34,10 @@ __all__ = [
     "object_text",
     "objects_json",
     "parse_objects",
+    "parse_overrides",
     "parse_rates",
     "parse_utensils",
+    "plan_split",
     "split_pddl",
     "stats_json",
     "verify_json",
@@ -357,3 +360,16 @@ __all__ += [
     "parse_merged",
     "provenance_text",
 ]
+
+def load_overrides(path: _Path) -> list[tuple[int, float, int]]: ...
+def parse_overrides(
+    text: str | bytes, path: _Path | None = None
+) -> list[tuple[int, float, int]]: ...
+def plan_split(
+    planner: Planner,
+    goal: int,
+    robot: tuple[Any, ...],
+    human: tuple[Any, ...],
+    max_human: int,
+    fixed_tree: bool = False,
+) -> dict[str, Any]: ...

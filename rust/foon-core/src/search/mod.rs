@@ -12,6 +12,7 @@ mod optimal;
 mod plan;
 mod query;
 mod scratch;
+pub mod split;
 mod tree;
 
 use std::time::Instant;
