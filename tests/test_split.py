@@ -6,6 +6,7 @@ the lab's fixed-tree method against its reference."""
 
 from __future__ import annotations
 
+import json
 import math
 import random
 from collections.abc import Callable
@@ -195,3 +196,74 @@ def test_override_file_errors(tmp_path: object) -> None:
     p = foon.Profile(ex.motions).with_overrides(bad)
     with pytest.raises(foon.ParseError, match=r"over\.txt:2:1: .*unit 999 is out of range"):
         ex.foon.split(ex.goals[0], ex.kitchen, {"robot": p}, 1)
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    from foon.cli import main
+
+    code = main(["split", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_cli_text_and_json(capsys: pytest.CaptureFixture[str], tmp_path: object) -> None:
+    from pathlib import Path
+
+    assert isinstance(tmp_path, Path)
+    code, out, _ = run_cli(capsys, "--max-human", "2", "--fixed-tree")
+    assert code == 0
+    assert "front: 1 human step(s), success 0.9" in out
+    assert "human unit 7 (pound)" in out and "fixed tree (the lab's method):" in out
+    code, out, _ = run_cli(capsys, "--max-human", "2", "--fixed-tree", "--json")
+    assert code == 0
+    (d,) = json.loads(out)
+    assert d["best"] == [0.495, 0.9, 1.0]
+    assert [p["human"] for p in d["front"]] == [0, 1, 2]
+    assert d["front"][1]["steps"][0] == {
+        "unit": 7, "motion": "pound", "object": 17, "actor": "human", "budget": 1, "times": 1,
+    }  # fmt: skip
+    assert [round(p["success"], 12) for p in d["fixed_tree"]] == [0.495, 0.9, 1.0]
+    # A human who pounds no better than the robot: one human step, the scoop; with two, a
+    # different tree (freeze and crush by hand) beats every split of the robot's best tree.
+    human = tmp_path / "human.txt"
+    human.write_text("pound\t0.5\nscoop\t1.0\n", encoding="utf-8")
+    ex = foon.example()
+    robot = tmp_path / "robot.txt"
+    robot.write_text("".join(f"{m}\t{r}\n" for m, r in ex.motions.items()), encoding="utf-8")
+    code, out, _ = run_cli(capsys, "--profile", f"robot={robot}", "--profile",
+                           f"human={human}", "--max-human", "2", "--json")  # fmt: skip
+    (d,) = json.loads(out)
+    assert code == 0 and [p["human"] for p in d["front"]] == [0, 1, 2]
+    assert [s["actor"] for s in d["front"][1]["steps"]] == ["robot", "human"]
+    assert d["front"][2]["units"] == [5, 3, 9, 8]
+    assert [s["actor"] for s in d["front"][2]["steps"]] == ["robot", "human", "robot", "human"]
+    assert math.isclose(d["best"][2], 0.85 * 0.85, rel_tol=1e-12)
+    # Overrides: the robot never fails unit 6.
+    over = tmp_path / "over.txt"
+    over.write_text("# unit\trate\n6\t1\n", encoding="utf-8")
+    code, out, _ = run_cli(capsys, "--override", f"robot={over}", "--max-human", "0", "--json")
+    (d,) = json.loads(out)
+    assert d["best"] == [ex.motions["pound"]]
+
+
+def test_cli_errors(capsys: pytest.CaptureFixture[str], tmp_path: object) -> None:
+    from pathlib import Path
+
+    assert isinstance(tmp_path, Path)
+    bad = tmp_path / "human.txt"
+    bad.write_text("pound\t0.5\nscoop 1.0\n", encoding="utf-8")
+    code, _, err = run_cli(capsys, "--profile", f"human={bad}")
+    assert code == 1
+    assert f"{bad}:2:10" in err and "expected 'motion<TAB>rate'" in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    over = tmp_path / "over.txt"
+    over.write_text("6\t0.5\n7\tmaybe\n", encoding="utf-8")
+    code, _, err = run_cli(capsys, "--override", f"human={over}")
+    assert code == 1 and f"{over}:2:3" in err and "rate 'maybe' is not a number" in err
+    over.write_text("6\t0.5\n70000\t0.5\n", encoding="utf-8")
+    code, _, err = run_cli(capsys, "--override", f"human={over}")
+    assert code == 1 and f"{over}:2:1" in err and "unit 70000 is out of range" in err
+    code, _, err = run_cli(capsys, "--profile", "robot")
+    assert code == 2 and "expected NAME=FILE" in err
+    code, _, err = run_cli(capsys, "--label", "no such thing")
+    assert code == 1 and "no such thing" in err

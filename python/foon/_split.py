@@ -269,6 +269,9 @@ def split(
         raise ValueError(f"no profile named {human!r} for the human")
     rp = profiles[robot]
     hp = profiles[human] if human in profiles else Profile.certain()
+    if hp.default_rate is None:
+        # The human's rate is 1 for whatever their table does not list.
+        hp = Profile(hp.rates, 1.0, hp.overrides, hp.overrides_path, hp._lines)
     d = _foon.plan_split(
         planner._native,
         planner.foon.goal_id(goal),

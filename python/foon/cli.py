@@ -94,11 +94,12 @@ COMMANDS = (
     "index",
     "merge",
     "synth",
+    "split",
 )
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("index", "merge", "synth")
+_OWN_MODULE = ("index", "merge", "synth", "split")
 
 
 def _columns() -> int:
@@ -216,6 +217,15 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
             (
                 "Writes a realistic merged FOON of exactly --units units (course dialect), "
                 "deterministic for --seed, with its kitchen, goals and motion table on request."
+            ),
+        ),
+        "split": (
+            "split each goal's tree between a robot and a human",
+            (
+                "For each budget m = 0..--max-human, the tree and the assignment of at most m "
+                "of its steps to the human that maximise the tree's success over all valid "
+                "trees (--profile robot=FILE, --profile human=FILE; the human's rates are 1 by "
+                "default). Prints the front of success against human steps."
             ),
         ),
         "draw": (
