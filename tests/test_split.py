@@ -267,3 +267,21 @@ def test_cli_errors(capsys: pytest.CaptureFixture[str], tmp_path: object) -> Non
     assert code == 2 and "expected NAME=FILE" in err
     code, _, err = run_cli(capsys, "--label", "no such thing")
     assert code == 1 and "no such thing" in err
+
+
+def test_compare_split_rows(capsys: pytest.CaptureFixture[str]) -> None:
+    """``foon compare --split M``: a split and a fixed-tree row per goal; the split is never
+    worse than the fixed tree, and at M = 0 both are optimal-success's cost."""
+    from foon.cli import main
+
+    assert main(["compare", "--split", "2", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    split = {r["goal"]: r for r in rows if r["method"] == "split M=2"}
+    fixed = {r["goal"]: r for r in rows if r["method"] == "fixed-tree M=2"}
+    assert split and split.keys() == fixed.keys()
+    for goal, r in split.items():
+        if r["solved"]:
+            assert r["success"] >= fixed[goal]["success"] * (1 - 1e-12)
+    ex = foon.example()
+    r = ex.foon.split(ex.goals[0], ex.kitchen, {"robot": ex.motions}, 2)
+    assert split[str(ex.foon.object(r.goal))]["success"] == r.best[2]

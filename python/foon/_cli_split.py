@@ -146,6 +146,46 @@ def _json_safe(d: Any) -> Any:
     return d
 
 
+def compare_rows(
+    planner: foon.Planner,
+    resolved: list[int | NotFound],
+    max_human: int,
+    motions: foon.MotionRates | None,
+    default_rate: float | None,
+) -> list[Any]:
+    """``foon compare --split M``: rows ``split M=..`` and ``fixed-tree M=..`` for each goal
+    (the robot's rates are the comparison's table, the human's are 1); success as tree cost
+    counts it, the best with at most M human steps."""
+    import time
+
+    if motions is None and default_rate is None:
+        raise UsageError("--split needs the robot's rates: give --motions FILE")
+    profiles = foon.Profiles({"robot": foon.Profile(motions, default_rate)})
+    names = (f"split M={max_human}", f"fixed-tree M={max_human}")
+    split_rows: list[Any] = []
+    fixed_rows: list[Any] = []
+    for r in resolved:
+        if isinstance(r, NotFound):
+            for name, rows in zip(names, (split_rows, fixed_rows), strict=True):
+                rows.append((name, str(r.goal), r.message))
+            continue
+        t0 = time.perf_counter()
+        s = planner.split(r, profiles, max_human, fixed_tree=True)
+        seconds = time.perf_counter() - t0
+        p = s.front[-1] if s.front else None
+        units = None if p is None else len(p.units)
+        split_rows.append(
+            (names[0], r, s.solved, units, s.best[-1], s.expanded, seconds)
+        )  # fmt: skip
+        q = s.fixed[-1] if s.fixed else None
+        fixed_units = None if q is None else len({u for u, _, _ in q.steps})
+        fixed_rows.append(
+            (names[1], r, q is not None, fixed_units, None if q is None else q.success,
+             s.expanded, seconds)
+        )  # fmt: skip
+    return split_rows + fixed_rows
+
+
 def cmd_split(args: argparse.Namespace) -> int:
     """Splits each goal; exit code 1 when a goal cannot be made or is not found."""
     f, kitchen, motions, utensils, ex = inputs(args)

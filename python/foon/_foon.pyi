@@ -269,7 +269,11 @@ def write_foon(
 ) -> bytes: ...
 def write_comparison(
     foon: Foon,
-    rows: Sequence[tuple[str, Plan] | tuple[str, str, str]],
+    rows: Sequence[
+        tuple[str, Plan]
+        | tuple[str, str, str]
+        | tuple[str, int, bool, int | None, float | None, int, float]
+    ],
     format: str,
     *,
     title: str | None = None,

@@ -314,6 +314,12 @@ def _compare_options(cp: argparse.ArgumentParser) -> None:
     cp.add_argument("--count", choices=["nodes", "ingredients"], default="nodes")
     cp.add_argument("--default-rate", type=float, metavar="R")
     cp.add_argument("--threads", type=_threads, metavar="N")
+    cp.add_argument(
+        "--split",
+        type=_count_arg,
+        metavar="M",
+        help="also the robot/human split and the lab's fixed tree with M human steps",
+    )
     fmt = cp.add_mutually_exclusive_group()
     fmt.add_argument("--format", choices=_formats(3), default=None, help="default: text")
     fmt.add_argument("--json", action="store_true", help="the same as --format json")
