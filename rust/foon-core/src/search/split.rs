@@ -15,6 +15,7 @@ use std::collections::BinaryHeap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::scratch::IdMap;
 use super::{Context, Explanation, optimal};
 use crate::error::{Error, Result};
 use crate::index::{Foon, NONE};
@@ -159,8 +160,9 @@ fn weight(r: f64) -> f64 {
 
 /// The goal's ancestry in local numbering, and the labels of every level.
 struct Labels {
-    /// Local object -> object id.
+    /// Local object -> object id, and back.
     objs: Vec<u32>,
+    local: IdMap<u32>,
     leaf: Vec<bool>,
     /// Local unit -> FU id, its robot and human weights.
     fus: Vec<u32>,
@@ -264,6 +266,7 @@ impl Labels {
         }
         Ok(Self {
             objs,
+            local,
             leaf,
             fus,
             w_robot,
@@ -380,13 +383,8 @@ impl Labels {
                 fire(self, u, &mut heap, &done);
             }
         }
-        // Object id -> local index, for the heap's entries.
-        let mut local = ctx.id_map(ctx.foon.object_count(), NONE);
-        for (i, &o) in self.objs.iter().enumerate() {
-            local.set(o, i as u32);
-        }
         while let Some(Entry { cost: c, obj }) = heap.pop() {
-            let o = local.get(obj) as usize;
+            let o = self.local.get(obj) as usize;
             if done[o] || c > self.label[o * lv + m] {
                 continue;
             }
