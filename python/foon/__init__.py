@@ -52,6 +52,7 @@ if TYPE_CHECKING:
     from foon._explain import GoalExplanation, Similar
     from foon._kbest import RankedTree
     from foon._merge import MergeReport, load_merged, merge, merge_report
+    from foon._split import Profile, Profiles, SplitResult
     from foon._synth import (
         MAX_SYNTH_UNITS,
         SYNTH_TEXT_LIMIT,
@@ -87,8 +88,11 @@ __all__ = [
     "OutputError",
     "ParseError",
     "Planner",
+    "Profile",
+    "Profiles",
     "RankedTree",
     "Similar",
+    "SplitResult",
     "SynthReport",
     "TaskTree",
     "TreeCheck",
@@ -123,6 +127,7 @@ _LAZY: dict[str, str] = {
     **dict.fromkeys(("MergeReport", "load_merged", "merge", "merge_report"), "foon._merge"),
     "RankedTree": "foon._kbest",
     **dict.fromkeys(("GoalExplanation", "Similar"), "foon._explain"),
+    **dict.fromkeys(("Profile", "Profiles", "SplitResult"), "foon._split"),
 }
 
 
@@ -1348,6 +1353,28 @@ class Foon:
             level=level,
         )  # fmt: skip
 
+    def split(
+        self,
+        goal: GoalLike,
+        kitchen: KitchenLike = None,
+        profiles: Profiles | Mapping[str, Any] | None = None,
+        max_human: int = 1,
+        *,
+        robot: str = "robot",
+        human: str = "human",
+        utensils: UtensilsLike = None,
+        fixed_tree: bool = False,
+    ) -> SplitResult:
+        """The robot/human split: for each budget m = 0..``max_human``, the tree and the
+        assignment of at most m of its steps to the human that maximise the tree's success
+        over all valid trees (tree cost: a sub-goal used twice is made, and counted, twice).
+        ``profiles[robot]`` gives the robot's rates, ``profiles[human]`` the human's (every
+        rate 1 when absent). ``fixed_tree=True`` adds the lab's method (the best robot tree,
+        its m lowest-rate units to the human). See ``docs/METHODS.md``."""
+        return self.planner(kitchen, utensils=utensils).split(
+            goal, profiles, max_human, robot=robot, human=human, fixed_tree=fixed_tree
+        )
+
     def ranks(self, kitchen: KitchenLike = None, utensils: UtensilsLike = None) -> list[int | None]:
         """Rank of every object from the kitchen: the fewest parallel steps that make it
         (None when it cannot be made)."""
@@ -1561,6 +1588,30 @@ class Planner:
         """Rank of every object: the fewest parallel steps that make it from the kitchen
         (None when it cannot be made)."""
         return list(self._native.ranks())
+
+    def split(
+        self,
+        goal: GoalLike,
+        profiles: Profiles | Mapping[str, Any] | None = None,
+        max_human: int = 1,
+        *,
+        robot: str = "robot",
+        human: str = "human",
+        fixed_tree: bool = False,
+    ) -> SplitResult:
+        """The robot/human split over this planner's kitchen and utensils (see
+        :meth:`Foon.split`; the planner's own motion rates are not used)."""
+        from foon._split import split
+
+        return split(
+            self,
+            goal,
+            {} if profiles is None else profiles,
+            max_human,
+            robot=robot,
+            human=human,
+            fixed_tree=fixed_tree,
+        )
 
 
 def _restore_planner(

@@ -378,7 +378,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
         error(summary(nf))
     ids = [r for r in resolved if isinstance(r, int)]
     planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
-    rows: list[tuple[str, _foon.Plan] | tuple[str, str, str]] = []
+    rows: list[Any] = []
     skipped: list[tuple[str, str]] = []
     for m in methods:
         course = (m == "bfs" or args.compat == "course") and not m.startswith("optimal")
@@ -400,6 +400,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
                 rows.append((name, str(r.goal), r.message))
             else:
                 rows.append((name, next(trees)._plan))
+    if args.split is not None:
+        from foon._cli_split import compare_rows
+
+        rows += compare_rows(planner, resolved, args.split, motions, args.default_rate)
     for m, why in skipped:
         print(
             f"foon: note: {m} skipped: it needs a success rate for every motion "

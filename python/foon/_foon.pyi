@@ -27,6 +27,7 @@ __all__ = [
     "formats",
     "goal_at_level",
     "load_objects",
+    "load_overrides",
     "load_rates",
     "load_utensils",
     "max_threads",
@@ -37,9 +38,11 @@ __all__ = [
     "object_text",
     "objects_json",
     "parse_objects",
+    "parse_overrides",
     "parse_rates",
     "parse_utensils",
     "plan_k",
+    "plan_split",
     "split_pddl",
     "stats_json",
     "verify_json",
@@ -304,7 +307,11 @@ def write_foon(
 ) -> bytes: ...
 def write_comparison(
     foon: Foon,
-    rows: Sequence[tuple[str, Plan] | tuple[str, str, str]],
+    rows: Sequence[
+        tuple[str, Plan]
+        | tuple[str, str, str]
+        | tuple[str, int, bool, int | None, float | None, int, float]
+    ],
     format: str,
     *,
     title: str | None = None,
@@ -417,3 +424,16 @@ __all__ += [
     "parse_merged",
     "provenance_text",
 ]
+
+def load_overrides(path: _Path) -> list[tuple[int, float, int]]: ...
+def parse_overrides(
+    text: str | bytes, path: _Path | None = None
+) -> list[tuple[int, float, int]]: ...
+def plan_split(
+    planner: Planner,
+    goal: int,
+    robot: tuple[Any, ...],
+    human: tuple[Any, ...],
+    max_human: int,
+    fixed_tree: bool = False,
+) -> dict[str, Any]: ...

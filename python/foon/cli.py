@@ -97,11 +97,12 @@ COMMANDS = (
     "paths",
     "explain",
     "find",
+    "split",
 )
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("index", "merge", "synth", "paths", "explain", "find")
+_OWN_MODULE = ("index", "merge", "synth", "paths", "explain", "find", "split")
 
 
 def _columns() -> int:
@@ -243,6 +244,15 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
                 'free-text query such as "chopped onion in bowl". --json for programs.'
             ),
         ),
+        "split": (
+            "split each goal's tree between a robot and a human",
+            (
+                "For each budget m = 0..--max-human, the tree and the assignment of at most m "
+                "of its steps to the human that maximise the tree's success over all valid "
+                "trees (--profile robot=FILE, --profile human=FILE; the human's rates are 1 by "
+                "default). Prints the front of success against human steps."
+            ),
+        ),
         "draw": (
             "draw a FOON or the neighbourhood of one object",
             (
@@ -356,6 +366,12 @@ def _compare_options(cp: argparse.ArgumentParser) -> None:
     cp.add_argument("--count", choices=["nodes", "ingredients"], default="nodes")
     cp.add_argument("--default-rate", type=float, metavar="R")
     cp.add_argument("--threads", type=_threads, metavar="N")
+    cp.add_argument(
+        "--split",
+        type=_count_arg,
+        metavar="M",
+        help="also the robot/human split and the lab's fixed tree with M human steps",
+    )
     fmt = cp.add_mutually_exclusive_group()
     fmt.add_argument("--format", choices=_formats(3), default=None, help="default: text")
     fmt.add_argument("--json", action="store_true", help="the same as --format json")

@@ -45,6 +45,7 @@ pub enum InputKind {
     Motions,
     Utensils,
     Tree,
+    RateOverrides,
 }
 
 impl InputKind {
@@ -56,6 +57,7 @@ impl InputKind {
             Self::Motions => "motion table",
             Self::Utensils => "utensil list",
             Self::Tree => "task tree",
+            Self::RateOverrides => "rate override file",
         }
     }
 }

@@ -18,6 +18,7 @@ mod plan;
 mod planner;
 mod progress;
 mod serial;
+mod split;
 mod synth;
 mod writers;
 
@@ -54,6 +55,8 @@ mod _foon {
         parse_rates, parse_utensils,
     };
 
+    #[pymodule_export]
+    use super::split::{load_overrides, parse_overrides, plan_split};
     #[pymodule_export]
     use super::synth::{
         synth_goals, synth_kitchen, synth_motions, synth_side, synth_text, synth_write,

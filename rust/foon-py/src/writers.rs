@@ -237,8 +237,13 @@ pub(crate) fn write_foon<'py>(
     Ok(PyBytes::new(py, &bytes))
 }
 
-/// A comparison: `rows` are (method, plan) for planned goals and (method, goal text, error)
-/// for goals that could not be planned.
+/// A comparison row given by its figures: (method, goal, solved, units, success, expanded,
+/// seconds).
+type Figures = (String, u32, bool, Option<usize>, Option<f64>, u64, f64);
+
+/// A comparison: `rows` are (method, plan) for planned goals, (method, goal text, error)
+/// for goals that could not be planned, and [`Figures`] for methods without a plan (the
+/// robot/human split).
 #[pyfunction]
 #[pyo3(signature = (foon, rows, format, *, title = None))]
 pub(crate) fn write_comparison<'py>(
@@ -254,6 +259,19 @@ pub(crate) fn write_comparison<'py>(
     for r in &rows {
         if let Ok((method, plan)) = r.extract::<(String, PyRef<'_, PyPlan>)>() {
             out.push(CompareRow::of_plan(&foon.inner, &method, &plan.plan));
+        } else if let Ok(fig) = r.extract::<Figures>() {
+            let (method, goal, solved, units, success, expanded, seconds) = fig;
+            crate::foon::check_object(&foon.inner, goal)?;
+            out.push(CompareRow::of_figures(
+                &foon.inner,
+                &method,
+                goal,
+                solved,
+                units,
+                success,
+                expanded,
+                seconds,
+            ));
         } else {
             let (method, goal, error): (String, String, String) = r.extract()?;
             out.push(CompareRow::failed(goal, &method, error));

@@ -7,6 +7,7 @@ mod foon;
 mod json;
 mod lines;
 mod objects;
+mod overrides;
 mod rates;
 mod utensils;
 
@@ -21,6 +22,7 @@ use crate::progress::Progress;
 pub use lines::MAX_LINE_BYTES;
 pub(crate) use objects::parse_objects_noting;
 pub use objects::{load_objects, parse_objects};
+pub use overrides::{RateOverrides, load_overrides, parse_overrides};
 pub(crate) use rates::parse_rates_recovering;
 pub use rates::{load_rates, parse_rates};
 pub use utensils::{load_utensils, parse_utensils};

@@ -15,6 +15,7 @@ mod plan;
 mod query;
 mod scratch;
 mod shared;
+pub mod split;
 mod tree;
 
 use std::time::Instant;

@@ -44,6 +44,35 @@ impl CompareRow {
         }
     }
 
+    /// The row of a method that gives only a tree's size and success (the robot/human split
+    /// and the lab's fixed-tree method: `success` is the success they maximise, as tree cost
+    /// counts it; no height, leaves or peak).
+    #[allow(clippy::too_many_arguments)]
+    pub fn of_figures(
+        foon: &Foon,
+        method: &str,
+        goal: u32,
+        solved: bool,
+        fu_count: Option<usize>,
+        success: Option<f64>,
+        expanded: u64,
+        seconds: f64,
+    ) -> Self {
+        Self {
+            goal: super::object_line(foon, goal),
+            method: method.to_owned(),
+            solved,
+            fu_count: fu_count.filter(|_| solved),
+            height: None,
+            success: success.filter(|_| solved),
+            leaf_inputs: None,
+            expanded: Some(expanded),
+            peak_frontier: None,
+            seconds: Some(seconds),
+            error: None,
+        }
+    }
+
     /// The row of a goal that could not be planned.
     pub fn failed(goal: String, method: &str, error: String) -> Self {
         Self {
