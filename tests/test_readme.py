@@ -44,7 +44,7 @@ def test_the_command_line_blocks_run_as_written(tmp_path: Path) -> None:
     """Every ```bash block after the set-up commands, run in order in one shell (later blocks
     use what earlier ones define and write), from a folder beside ``shared/`` as the
     repository is: no usage error, no traceback; a command may exit 1 only where the README
-    says it reports a failure (an unsolvable goal, a tree that cannot run, lint findings)."""
+    says it reports a failure (an unsolvable goal, a tree that cannot run, lint findings, a blocked goal explained)."""
     need_shared()
     cli = [code for _, code in blocks("bash")][1:]  # the first block installs and tests
     assert cli, "the README shows no command-line example"
@@ -59,6 +59,6 @@ def test_the_command_line_blocks_run_as_written(tmp_path: Path) -> None:
     failed = [line for line in r.stderr.splitlines() if line.startswith("EXIT ")]
     assert all(line.startswith("EXIT 1 foon ") for line in failed), failed
     # The failures are the ones the README describes, and the trees it verifies exist.
-    assert {line.split()[3] for line in failed} <= {"plan", "verify", "check"}, failed
+    assert {line.split()[3] for line in failed} <= {"plan", "verify", "check", "explain"}, failed
     assert (work / "trees" / "whipped_cream.txt").is_file()
     assert "whipped_cream.txt:56: unit 4 cannot run" in r.stdout or "cannot run" in r.stdout
