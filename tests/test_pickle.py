@@ -143,3 +143,32 @@ def test_process_pools_plan_the_same_trees(context: str) -> None:
 
 def batch_in_worker(planner: foon.Planner, goals: list[foon.Object]) -> list[list[int]]:
     return [t.units for t in planner.plan_many(goals * 10, threads=2)]
+
+
+SYNTH_UNITS = 3_000  # about 1 MB of text: several parse chunks, read on the worker pool
+
+
+def load_and_plan_in_child(text: str, goals: list[foon.Object]) -> list[list[int]]:
+    """Everything that runs in parallel inside the core, in a forked child: a parse of several
+    chunks, the index build, what a prepared kitchen computes once per method."""
+    f = foon.Foon.from_text(text)
+    p = f.planner(foon.synth_kitchen(SYNTH_UNITS, 1), motions=foon.synth_motions())
+    return [
+        t.units
+        for m in ("greedy-success", "greedy-inputs", "optimal-units")
+        for t in p.plan_many(goals, m)
+    ]
+
+
+def test_a_forked_child_runs_every_parallel_step_after_its_parent_did() -> None:
+    if "fork" not in multiprocessing.get_all_start_methods():
+        pytest.skip("no fork start method here")
+    text = foon.synth(SYNTH_UNITS, 1)
+    goals = foon.synth_goals(SYNTH_UNITS, 1, 10)
+    # The parent runs every parallel step first, so that a forked child inherits their pool.
+    want = load_and_plan_in_child(text, goals)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
+            got = pool.submit(load_and_plan_in_child, text, goals).result(timeout=120)
+    assert got == want

@@ -504,20 +504,23 @@ impl Builder {
         let cons_pairs = (0..n_fu as u32).flat_map(|fu| ins.row(fu).iter().map(move |&o| (o, fu)));
         // The lists and the tables are independent: built side by side on the thread pool.
         let (obj_hash, fu_hash) = (&f.obj_hash, &f.fu_hash);
-        let ((producers, consumers), (obj_table, fu_table)) = rayon::join(
-            || {
+        let ((producers, consumers), (obj_table, fu_table)) =
+            crate::search::batch::in_pool(|| {
                 rayon::join(
-                    || Csr::try_from_pairs(n_obj, prod_pairs, "producer entries"),
-                    || Csr::try_from_pairs(n_obj, cons_pairs, "input edges"),
+                    || {
+                        rayon::join(
+                            || Csr::try_from_pairs(n_obj, prod_pairs, "producer entries"),
+                            || Csr::try_from_pairs(n_obj, cons_pairs, "input edges"),
+                        )
+                    },
+                    || {
+                        rayon::join(
+                            || Table::rebuild(obj_hash, 0),
+                            || Table::rebuild(fu_hash, 0),
+                        )
+                    },
                 )
-            },
-            || {
-                rayon::join(
-                    || Table::rebuild(obj_hash, 0),
-                    || Table::rebuild(fu_hash, 0),
-                )
-            },
-        );
+            })?;
         f.producers = producers?;
         f.consumers = consumers?;
         f.strings.finish()?;

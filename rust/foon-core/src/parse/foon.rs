@@ -734,7 +734,10 @@ fn read_window(w: &[u8], chunk: usize, path: Option<&Path>) -> Vec<(usize, usize
         // One chunk (a small file): read here, without handing it to the thread pool.
         return ranges.into_iter().map(read).collect();
     }
-    ranges.into_par_iter().map(read).collect()
+    // On the worker pool; without one (its threads could not start), here.
+    let on_pool = ranges.clone();
+    crate::search::batch::in_pool(|| on_pool.into_par_iter().map(read).collect())
+        .unwrap_or_else(|_| ranges.into_iter().map(read).collect())
 }
 
 /// Parses FOON text into `b` (one source) from the windows of `source`: errors are collected in
@@ -814,7 +817,7 @@ fn parse_stream_from<'d>(
         };
         // The next window is read while this one feeds the index; the last one feeds alone.
         let (fed, next) = if next.is_some() {
-            rayon::join(feed, || read(next))
+            crate::search::batch::in_pool(|| rayon::join(feed, || read(next)))?
         } else {
             (feed(), None)
         };

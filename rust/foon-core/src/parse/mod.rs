@@ -58,7 +58,7 @@ impl ParseControl<'_> {
     /// Bytes read ahead while the index is fed: a few chunks per thread.
     fn window(&self) -> usize {
         self.chunk()
-            .saturating_mul(2 * rayon::current_num_threads().max(1))
+            .saturating_mul(2 * crate::search::batch::max_threads())
     }
 }
 

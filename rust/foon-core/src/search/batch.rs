@@ -149,6 +149,15 @@ fn pool() -> Result<Arc<rayon::ThreadPool>> {
     Ok(pool)
 }
 
+/// Runs `f` on the process's worker pool (the fork guard included), so that the parallel
+/// iterators and joins inside it never touch rayon's global pool: every parallel step of the
+/// crate (parsing, building the index, what a prepared kitchen computes once) goes through
+/// here, and a child forked after any of them builds its own threads. On a worker of the pool
+/// `f` runs in place.
+pub(crate) fn in_pool<R: Send>(f: impl FnOnce() -> R + Send) -> Result<R> {
+    Ok(pool()?.install(f))
+}
+
 /// Plans every goal of `goals` with `query` over inputs prepared for `foon` (see the module
 /// documentation for threads, cancellation and errors). Results are in goal order.
 pub fn plan_batch(

@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 
+use super::batch::in_pool;
 use super::{Context, Count, Method, Query};
 use crate::error::Result;
 use crate::index::{Csr, NONE};
@@ -114,10 +115,12 @@ pub(super) fn shared<'c>(ctx: &'c Context<'_>, query: Query) -> Result<Option<&'
 /// producer in file order: the same as [`order`] and [`best`] on its producers.
 fn greedy(ctx: &Context<'_>, query: Query) -> Result<Greedy> {
     let foon = ctx.foon;
-    let keys = (0..foon.fu_count() as u32)
-        .into_par_iter()
-        .map(|f| key(ctx, f, query))
-        .collect::<Result<Vec<u64>>>()?;
+    let keys = in_pool(|| {
+        (0..foon.fu_count() as u32)
+            .into_par_iter()
+            .map(|f| key(ctx, f, query))
+            .collect::<Result<Vec<u64>>>()
+    })??;
     ctx.check_stop()?;
     let n = foon.object_count();
     let mut order = Csr::with_capacity(n, 0);

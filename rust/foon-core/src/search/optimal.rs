@@ -320,10 +320,12 @@ fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum
                 Ok(())
             }
         };
-        let ((s, u), i) = rayon::join(
-            || rayon::join(success, || one_optimum(ctx, Objective::Units)),
-            || one_optimum(ctx, Objective::Inputs),
-        );
+        let ((s, u), i) = super::batch::in_pool(|| {
+            rayon::join(
+                || rayon::join(success, || one_optimum(ctx, Objective::Units)),
+                || one_optimum(ctx, Objective::Inputs),
+            )
+        })?;
         s?;
         u?;
         i?;
