@@ -39,7 +39,9 @@ def test_load_errors_map_to_builtin_and_typed_exceptions(tmp_path: Path) -> None
 def test_goal_not_found_message() -> None:
     f = foon.Foon.from_text(SMALL)
     with pytest.raises(
-        foon.GoalNotFoundError, match=r"^The goal node does not exist: ice in \[cup\]$"
+        foon.GoalNotFoundError,
+        match=r"^The goal node does not exist: ice in \[cup\]; nearest: ice in \[bag\]; "
+        r"ice in \[glass\]$",
     ):
         f.plan(foon.Object("ice", container="cup"))
     with pytest.raises(foon.GoalNotFoundError, match="The goal node does not exist: soup"):

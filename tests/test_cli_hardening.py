@@ -389,6 +389,14 @@ def _with_a_missing_goal() -> list[dict[str, object]]:
     return [ex.goals[0].to_dict(), obj("unicorn", "magic"), ex.goals[1].to_dict()]
 
 
+# The example has no unicorn: the message names the nearest objects (METHODS.md, "Finding
+# objects by text").
+UNICORN_NOT_FOUND = (
+    "The goal node does not exist: unicorn (magic); nearest: salad fork; ice tray (empty); "
+    "onion (whole)"
+)
+
+
 def test_plan_goes_on_after_a_missing_goal(capsys: Capture) -> None:
     ex = foon.example()
     goals = json.dumps(_with_a_missing_goal())
@@ -404,7 +412,7 @@ def test_plan_goes_on_after_a_missing_goal(capsys: Capture) -> None:
     )
     lines = err.splitlines()
     assert len(lines) == 3
-    assert lines[1] == "unicorn (magic): FAILED: The goal node does not exist: unicorn (magic)"
+    assert lines[1] == f"unicorn (magic): FAILED: {UNICORN_NOT_FOUND}"
     code, out, err = run(["plan", "--goal", goals, "--format", "json"], capsys)
     assert code == 1
     items = json.loads(out)
@@ -413,7 +421,7 @@ def test_plan_goes_on_after_a_missing_goal(capsys: Capture) -> None:
         "goal": obj("unicorn", "magic"),
         "method": "ids",
         "solved": False,
-        "error": "The goal node does not exist: unicorn (magic)",
+        "error": UNICORN_NOT_FOUND,
     }
 
 
@@ -437,9 +445,7 @@ def test_compare_goes_on_after_a_missing_goal(capsys: Capture) -> None:
         for s, e in ((True, False), (False, True), (True, False))
     ]
     assert [(s["solved_count"], s["goals"]) for s in d["summary"]] == [(2, 3), (2, 3)]
-    assert err == (
-        "foon: error: unicorn (magic): FAILED: The goal node does not exist: unicorn (magic)\n"
-    )
+    assert err == f"foon: error: unicorn (magic): FAILED: {UNICORN_NOT_FOUND}\n"
 
 
 def test_compare_without_rates_skips_the_methods_that_need_them(capsys: Capture) -> None:

@@ -525,3 +525,81 @@ def test_check_and_stats_json_validate(course: Course, capsys: Capture) -> None:
     validate(rows, "stats")
     assert [r["file"] for r in rows] == files
     assert rows[0] == {"file": files[0], **course.foon.stats()}
+
+
+# --- optimal-shared's figures and hierarchy levels in task trees ------------------------------
+
+
+def test_optimal_shared_trees_carry_bound_proven_gap_and_objective(
+    course: Course, capsys: Capture
+) -> None:
+    goals = str(DATA / "goal_nodes.json")
+    p = course.foon.planner(course.kitchen, motions=course.motions, utensils=course.utensils)
+    for extra, kw in [
+        ([], {}),
+        (["--node-limit", "3"], {"node_limit": 3}),
+        (
+            ["--objective", "success", "--node-limit", "50"],
+            {"objective": "success", "node_limit": 50},
+        ),
+    ]:
+        code, out, err = run(["plan", *course_args(), "--goals", goals, "--method", "optimal-shared",
+                              *extra, "--format", "json", "--quiet"], capsys)  # fmt: skip
+        assert "Traceback" not in err, err
+        trees = json.loads(out)
+        validate(trees, "task_trees")
+        assert code == (0 if all(t["solved"] for t in trees) else 1)
+        objective = kw.get("objective", "units")
+        native = p.plan_many(course.goals5, "optimal-shared", **kw)  # type: ignore[arg-type]
+        for t, tree in zip(trees, native, strict=True):
+            assert t["method"] == "optimal-shared" and t["objective"] == objective
+            assert t["level"] == 3
+            want = tree.to_dict()
+            assert tree.objective == objective
+            assert {k: t[k] for k in ("cost", "bound", "proven", "gap", "objective", "units")} == {
+                k: want[k] for k in ("cost", "bound", "proven", "gap", "objective", "units")
+            }
+            if not t["solved"]:  # no tree: no cost, so no bound either
+                assert [t[k] for k in ("cost", "bound", "proven", "gap")] == [None] * 4
+                continue
+            assert isinstance(t["proven"], bool)
+            cost, bound = t["cost"], t["bound"]
+            assert t["gap"] == abs(cost - bound)
+            # A lower bound on the unit count; an upper bound on the success.
+            assert bound <= cost if objective == "units" else bound >= cost
+            if t["proven"]:
+                assert t["gap"] == 0
+        if kw.get("node_limit") == 3:
+            assert not all(t["proven"] for t in trees)  # the limit stopped some search
+    # Pickling keeps the objective.
+    import pickle
+
+    tree = p.plan(course.goals5[1], "optimal-shared", objective="success", node_limit=5)
+    back = pickle.loads(pickle.dumps(tree))
+    assert back.objective == "success" and back == tree
+    # The other methods have none of these figures: null, always present.
+    for method in ("ids", "optimal-units"):
+        d = p.plan(course.goals5[1], method).to_dict()
+        validate(d, "task_tree")
+        assert [d[k] for k in ("bound", "proven", "gap", "objective")] == [None] * 4
+
+
+@pytest.mark.parametrize("level", [1, 2, 3])
+def test_plan_json_carries_the_identity_level(course: Course, level: int, capsys: Capture) -> None:
+    args = ["plan", *course_args(), "--goals", str(DATA / "goal_nodes.json"), "--format", "json",
+            "--quiet", "--method", "optimal-units"]  # fmt: skip
+    if level != 3:
+        args += ["--level", str(level)]
+    _code, out, err = run(args, capsys)
+    assert "Traceback" not in err, err
+    trees = json.loads(out)
+    validate(trees, "task_trees")
+    assert [t["level"] for t in trees if "level" in t] == [level] * len(course.goals5)
+    p = course.foon.planner(course.kitchen, motions=course.motions, utensils=course.utensils,
+                            level=level)  # type: ignore[arg-type]  # fmt: skip
+    for t, goal in zip(trees, course.goals5, strict=True):
+        tree = p.plan(goal, "optimal-units")
+        assert tree.level == level == tree.to_dict()["level"]
+        assert t["units"] == tree.units
+    # A tree planned without a planner of its own reports level 3.
+    assert course.foon.plan(course.goals5[0], course.kitchen, "ids").to_dict()["level"] == 3

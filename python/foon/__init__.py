@@ -746,6 +746,13 @@ class TaskTree:
         return self._plan.gap
 
     @property
+    def objective(self) -> str | None:
+        """``optimal-shared``: what :attr:`cost` and :attr:`bound` measure, ``"units"`` (the
+        number of distinct units) or ``"success"`` (the product of their rates); None for
+        the other methods."""
+        return self._plan.objective
+
+    @property
     def leaf_inputs(self) -> int:
         """Distinct kitchen items the units need."""
         return self._plan.leaf_inputs

@@ -77,8 +77,10 @@ pub enum Error {
         path: PathBuf,
         source: std::io::Error,
     },
-    /// The goal is not an object of the FOON.
-    GoalNotFound { goal: String },
+    /// The goal is not an object of the FOON: the goal, described, and the objects most
+    /// similar to it (at most [`find::SUGGESTED`](crate::find::SUGGESTED), described, best
+    /// first; see [`find::goal_not_found`](crate::find::goal_not_found)).
+    GoalNotFound { goal: String, nearest: Vec<String> },
     /// A goal given by its label only, which several objects have: the label, how many
     /// objects have it, and the first few of them, described.
     GoalAmbiguous {
@@ -164,7 +166,13 @@ impl fmt::Display for Error {
                 write!(f, "{at}: {} error: {reason}", kind.as_str())
             }
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            Self::GoalNotFound { goal } => write!(f, "The goal node does not exist: {goal}"),
+            Self::GoalNotFound { goal, nearest } => {
+                write!(f, "The goal node does not exist: {goal}")?;
+                if !nearest.is_empty() {
+                    write!(f, "; nearest: {}", nearest.join("; "))?;
+                }
+                Ok(())
+            }
             Self::GoalAmbiguous {
                 label,
                 count,

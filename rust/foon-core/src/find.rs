@@ -26,7 +26,9 @@
 
 use rustc_hash::FxHashMap;
 
+use crate::error::Error;
 use crate::index::{Foon, NONE};
+use crate::model::ObjectSpec;
 
 /// How many of the best-matching labels have their objects scored.
 pub const LABELS: usize = 16;
@@ -34,8 +36,46 @@ pub const LABELS: usize = 16;
 /// How many labels (those sharing the most trigrams with the query) are compared.
 pub const CANDIDATES: usize = 512;
 
+/// How many objects a "goal not found" error suggests.
+pub const SUGGESTED: usize = 3;
+
+/// [`Error::GoalNotFound`] for a goal (`described` as the message names it) that is not in
+/// `foon`, with the [`SUGGESTED`] objects most similar to it, described, best first: the
+/// objects [`FindIndex::find`] ranks first for the goal's states, label and container (`foon
+/// find` with the query `states label in container`; a goal given by label has only its
+/// label). Every "not found" goal given by its fields goes through here, so its message is
+/// always built the same way.
+pub fn goal_not_found(
+    foon: &Foon,
+    described: String,
+    label: &str,
+    states: &[String],
+    container: Option<&str>,
+) -> Error {
+    let mut query = states.join(" ");
+    if !query.is_empty() {
+        query.push(' ');
+    }
+    query.push_str(label);
+    if let Some(c) = container {
+        query.push_str(" in ");
+        query.push_str(c);
+    }
+    let nearest = foon
+        .find_index()
+        .find(foon, &query, SUGGESTED)
+        .iter()
+        .map(|f| ObjectSpec::of_object(foon, f.object).describe())
+        .collect();
+    Error::GoalNotFound {
+        goal: described,
+        nearest,
+    }
+}
+
 /// The candidate index of a FOON: its distinct labels (lowercase), trigram postings over
 /// them, and the objects of each label.
+#[derive(Debug, Clone, Default)]
 pub struct FindIndex {
     labels: Vec<String>,
     /// Objects of label `i`: `objects[starts[i]..starts[i + 1]]`, in id order.

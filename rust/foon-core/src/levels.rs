@@ -3,7 +3,7 @@
 //! level rule is merging's, [`level_key`](crate::merge::level_key)). The rules are in
 //! `docs/METHODS.md` ("Hierarchy levels").
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::kitchen::Kitchen;
 use crate::model::ObjectSpec;
 use crate::search::Context;
@@ -19,9 +19,13 @@ pub fn goal_candidates(ctx: &Context<'_>, goal: &ObjectSpec, level: u8) -> Resul
 pub fn goal_at_level(ctx: &Context<'_>, goal: &ObjectSpec, level: u8) -> Result<u32> {
     let cands = goal_candidates(ctx, goal, level)?;
     let Some(&first) = cands.first() else {
-        return Err(Error::GoalNotFound {
-            goal: format!("{} (at level {level})", goal.describe()),
-        });
+        return Err(crate::find::goal_not_found(
+            ctx.foon,
+            format!("{} (at level {level})", goal.describe()),
+            &goal.label,
+            &goal.states,
+            goal.container.as_deref(),
+        ));
     };
     if let Some(&o) = cands.iter().find(|&&o| ctx.in_kitchen(o)) {
         return Ok(o);

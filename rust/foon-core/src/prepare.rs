@@ -42,6 +42,8 @@ pub struct Prepared {
     ids_choice: OnceLock<Vec<u32>>,
     /// Per greedy heuristic: each object's producers in its order, and the course's choice.
     greedy: [OnceLock<Greedy>; Greedy::COUNT],
+    /// The identity level the kitchen was matched at (1, 2 or 3; results report it).
+    level: u8,
 }
 
 /// One greedy heuristic's producer order for every object, computed once per kitchen (the
@@ -173,7 +175,21 @@ impl Prepared {
             optima: Default::default(),
             ids_choice: OnceLock::new(),
             greedy: Default::default(),
+            level: 3,
         })
+    }
+
+    /// These inputs, recorded as matched at identity `level` (see
+    /// [`Kitchen::match_at_level`](crate::kitchen::Kitchen::match_at_level); 3 by default).
+    #[must_use]
+    pub fn at_level(mut self, level: u8) -> Self {
+        self.level = level;
+        self
+    }
+
+    /// The identity level the kitchen and the goals were matched at (1, 2 or 3).
+    pub fn level(&self) -> u8 {
+        self.level
     }
 
     /// Errors when these inputs were prepared for another FOON than `foon`.

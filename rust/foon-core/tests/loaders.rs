@@ -666,12 +666,12 @@ fn goals_by_spec_label_and_id() {
     assert!(matches!(e, Error::GoalNotFound { .. }));
     assert_eq!(
         e.to_string(),
-        "The goal node does not exist: snow (warm) in [cup]"
+        "The goal node does not exist: snow (warm) in [cup]; nearest: snow (cold)"
     );
     assert_eq!(f.goal_by_label("snow").unwrap(), 17);
     assert_eq!(
         f.goal_by_label("steam").unwrap_err().to_string(),
-        "The goal node does not exist: steam"
+        "The goal node does not exist: steam; nearest: water"
     );
     let e = f.goal_by_label("ice").unwrap_err();
     assert!(matches!(e, Error::GoalAmbiguous { count: 16, .. }), "{e:?}");

@@ -378,12 +378,14 @@ impl PyFoon {
                     |_| {
                         Err(foon_core::Error::GoalNotFound {
                             goal: format!("object id {i}"),
+                            nearest: Vec::new(),
                         })
                     },
                     |i| foon.goal_by_id(i),
                 ),
                 Err(_) => Err(foon_core::Error::GoalNotFound {
                     goal: format!("object id {goal}"),
+                    nearest: Vec::new(),
                 }),
             }
         };

@@ -14,7 +14,7 @@ pub(crate) struct PyPlan {
 
 /// The pickled form of a plan: (goal, method, compat, count), (solved, units, unresolved,
 /// explanation), (height, success, unrated, cost, leaf inputs, expanded, peak frontier,
-/// seconds).
+/// seconds), (bound, proven, objective).
 type PlanState = (
     (u32, String, String, String),
     (
@@ -33,7 +33,7 @@ type PlanState = (
         usize,
         f64,
     ),
-    (Option<f64>, Option<bool>),
+    (Option<f64>, Option<bool>, Option<String>),
 );
 
 #[pymethods]
@@ -111,6 +111,11 @@ impl PyPlan {
     fn gap(&self) -> Option<f64> {
         self.plan.gap()
     }
+    /// `optimal-shared`: the objective of the cost (`"units"` or `"success"`).
+    #[getter]
+    fn objective(&self) -> Option<&'static str> {
+        self.plan.objective.map(foon_core::SharedObjective::as_str)
+    }
     #[getter]
     fn leaf_inputs(&self) -> usize {
         self.plan.leaf_inputs
@@ -173,7 +178,11 @@ impl PyPlan {
                 p.peak_frontier,
                 p.seconds,
             ),
-            (p.bound, p.proven),
+            (
+                p.bound,
+                p.proven,
+                p.objective.map(|o| o.as_str().to_owned()),
+            ),
         );
         let f = slf.get_type().getattr("_from_state")?;
         Ok((f, PyTuple::new(slf.py(), [state.into_pyobject(slf.py())?])?))
@@ -184,7 +193,11 @@ impl PyPlan {
     fn _from_state(state: PlanState) -> PyResult<Self> {
         let ((goal, method, compat, count), (solved, units, unresolved, expl), metrics, shared) =
             state;
-        let (bound, proven) = shared;
+        let (bound, proven, objective) = shared;
+        let objective = objective
+            .map(|o| o.parse())
+            .transpose()
+            .map_err(PyFoonErr)?;
         let (height, success, unrated, cost, leaf_inputs, expanded, peak_frontier, seconds) =
             metrics;
         let query = foon_core::Query {
@@ -210,6 +223,7 @@ impl PyPlan {
                 cost,
                 bound,
                 proven,
+                objective,
                 leaf_inputs,
                 expanded,
                 peak_frontier,

@@ -55,6 +55,7 @@ impl PyPlanner {
         let prep = enter(py, |_| {
             let ids = kitchen.match_at_level(&f, level)?;
             Prepared::with_objects(&f, &ids, &utensils, rates.as_ref(), default_rate)
+                .map(|p| p.at_level(level))
         })?;
         Ok(Self {
             foon: f,

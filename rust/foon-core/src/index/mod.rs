@@ -101,6 +101,9 @@ pub struct Foon {
     /// The content fingerprint (read from the header of an index file, else computed on
     /// first use).
     pub(crate) fingerprint: OnceLock<[u8; 16]>,
+    /// The similarity index of `foon find` and of the goals a "not found" error suggests
+    /// (built on first use).
+    pub(crate) find: OnceLock<crate::find::FindIndex>,
     /// The index file this FOON was opened from, if any.
     pub(crate) file: Option<Arc<file::Opened>>,
 }
@@ -411,6 +414,13 @@ impl Foon {
         self.find_object_ids(l, &s?, &i?, c)
     }
 
+    /// The similarity index over this FOON's objects ([`FindIndex`](crate::find::FindIndex)),
+    /// built once, on first use.
+    pub fn find_index(&self) -> &crate::find::FindIndex {
+        self.find
+            .get_or_init(|| crate::find::FindIndex::build(self))
+    }
+
     /// The labels (string ids) that some object has with the state `empty`: the FOON's
     /// vessels, which the step wording names as `the bowl of ...`. Computed once per FOON.
     pub(crate) fn empty_labels(&self) -> &FxHashSet<u32> {
@@ -458,10 +468,17 @@ impl Foon {
     }
 
     /// The goal object for a spec: the object with its identity, or
-    /// [`Error::GoalNotFound`] ("The goal node does not exist: ...").
+    /// [`Error::GoalNotFound`] ("The goal node does not exist: ...", with the nearest
+    /// objects).
     pub fn goal_by_spec(&self, spec: &ObjectSpec) -> Result<u32> {
-        spec.find_in(self).ok_or_else(|| Error::GoalNotFound {
-            goal: spec.describe(),
+        spec.find_in(self).ok_or_else(|| {
+            crate::find::goal_not_found(
+                self,
+                spec.describe(),
+                &spec.label,
+                &spec.states,
+                spec.container.as_deref(),
+            )
         })
     }
 
@@ -472,9 +489,13 @@ impl Foon {
         const SHOWN: usize = 5;
         let ids = self.objects_with_label(label);
         match ids.as_slice() {
-            [] => Err(Error::GoalNotFound {
-                goal: label.to_owned(),
-            }),
+            [] => Err(crate::find::goal_not_found(
+                self,
+                label.to_owned(),
+                label,
+                &[],
+                None,
+            )),
             [one] => Ok(*one),
             many => Err(Error::GoalAmbiguous {
                 label: label.to_owned(),
@@ -499,6 +520,7 @@ impl Foon {
                     "object id {id} (the FOON has {} objects)",
                     self.object_count()
                 ),
+                nearest: Vec::new(),
             })
         }
     }

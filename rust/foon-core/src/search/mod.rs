@@ -93,6 +93,9 @@ impl Context<'_> {
             }
         };
         self.fill_metrics(&mut plan);
+        if query.method == Method::OptimalShared {
+            plan.objective = Some(self.shared_options().objective);
+        }
         plan.seconds = start.elapsed().as_secs_f64();
         Ok(plan)
     }

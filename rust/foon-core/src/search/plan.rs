@@ -1,7 +1,7 @@
 //! What a planning call returns: the [`Plan`], and for a failed sound search its
 //! [`Explanation`].
 
-use super::Query;
+use super::{Query, SharedObjective};
 
 /// Why a sound search failed.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -42,6 +42,9 @@ pub struct Plan {
     /// `optimal-shared`: whether `cost` is proven optimal (false when a limit stopped the
     /// search first).
     pub proven: Option<bool>,
+    /// `optimal-shared`: the objective `cost` and `bound` are in (a unit count, or a
+    /// success).
+    pub objective: Option<SharedObjective>,
     pub leaf_inputs: usize,
     pub expanded: u64,
     pub peak_frontier: usize,
@@ -64,6 +67,7 @@ impl Plan {
             cost: None,
             bound: None,
             proven: None,
+            objective: None,
             leaf_inputs: 0,
             expanded: 0,
             peak_frontier: 0,

@@ -164,7 +164,9 @@ pub fn objects_json(items: &[ObjectSpec]) -> Result<String> {
     Ok(String::from_utf8(to_vec(&v, b"    ")?).unwrap_or_default())
 }
 
-/// A task tree: the plan's result and figures, and what makes it self-contained: the kitchen
+/// A task tree: the plan's result and figures (with the identity `level` the goal and the
+/// kitchen were matched at, and `optimal-shared`'s `bound`, `proven`, `gap` and `objective`,
+/// `null` for the other methods), and what makes it self-contained: the kitchen
 /// items it uses (`leaves`), the rate each unit used (`rates`, `null` without a rate table),
 /// the units themselves in the lab's dialect (`functional_units`) and the FOON it came from.
 #[derive(Serialize)]
@@ -173,6 +175,7 @@ struct JsonTree<'a> {
     method: &'static str,
     compat: &'static str,
     count: &'static str,
+    level: u8,
     solved: bool,
     units: &'a [u32],
     fu_count: usize,
@@ -180,6 +183,10 @@ struct JsonTree<'a> {
     success: Option<f64>,
     unrated_motion: Option<&'a str>,
     cost: Option<f64>,
+    bound: Option<f64>,
+    proven: Option<bool>,
+    gap: Option<f64>,
+    objective: Option<&'static str>,
     leaf_inputs: usize,
     expanded: u64,
     peak_frontier: usize,
@@ -214,6 +221,7 @@ fn tree_value<'a>(doc: &'a TreeDoc<'a>, goal: &'a ObjectSpec) -> JsonTree<'a> {
         method: plan.query.method.as_str(),
         compat: plan.query.compat.as_str(),
         count: plan.query.count.as_str(),
+        level: doc.prep.level(),
         solved: plan.solved,
         units: &plan.units,
         fu_count: plan.units.len(),
@@ -221,6 +229,10 @@ fn tree_value<'a>(doc: &'a TreeDoc<'a>, goal: &'a ObjectSpec) -> JsonTree<'a> {
         success: plan.success,
         unrated_motion: plan.unrated.map(|u| foon.motion_text(u)),
         cost: plan.cost,
+        bound: plan.bound,
+        proven: plan.proven,
+        gap: plan.gap(),
+        objective: plan.objective.map(crate::search::SharedObjective::as_str),
         leaf_inputs: plan.leaf_inputs,
         expanded: plan.expanded,
         peak_frontier: plan.peak_frontier,
