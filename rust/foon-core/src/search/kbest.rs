@@ -15,9 +15,25 @@
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap, HashSet};
 
-use super::{Context, Method, Plan, Query};
+use super::{Context, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
 use crate::index::NONE;
+use crate::prepare::{Objective, Optimum};
+
+/// The kitchen's optimum of an optimal method, when plans read it (`optimal::plan`): not from
+/// scratch, and for `optimal-success` only when every motion has a rate.
+fn prepared<'c>(ctx: &'c Context<'_>, method: Method) -> Result<Option<&'c Optimum>> {
+    let objective = match method {
+        Method::OptimalSuccess => Objective::Success,
+        Method::OptimalUnits => Objective::Units,
+        Method::OptimalInputs => Objective::Inputs,
+        _ => return Ok(None),
+    };
+    if ctx.is_from_scratch() || (objective == Objective::Success && !ctx.all_rated()) {
+        return Ok(None);
+    }
+    optimal::optimum(ctx, objective).map(Some)
+}
 
 /// The goal's ancestry as a small graph of local ids (derivable objects, and the units whose
 /// needed inputs are all derivable: nothing else is in a tree) (objects and units in id order, so every
@@ -33,9 +49,17 @@ pub(super) struct Local {
     outs: Vec<Vec<u32>>,
     /// Units needing an object, once per needed slot.
     needed_by: Vec<Vec<u32>>,
+    /// Units that can set an object (those with it in `outs`).
+    made_by: Vec<Vec<u32>>,
     weight: Vec<f64>,
     leaf_cost: f64,
     goal: u32,
+    /// The kitchen's optimum in local ids (cost, choice), when prepared: the best tree of the
+    /// whole space, and every object's best completion outside a subspace's constraints.
+    opt: Option<(Vec<f64>, Vec<u32>)>,
+    /// Every unit weighs more than 0 and, at the optimum's costs, costs more than each of its
+    /// inputs: Knuth then finalises objects in (cost, id) order (see `solve_seeded`).
+    strict: bool,
 }
 
 /// Which cost a k-best search minimises.
@@ -122,6 +146,34 @@ impl Local {
             outs.push(os);
         }
         let (weight, leaf_cost) = weights(ctx, method, &fus)?;
+        let mut made_by = vec![Vec::new(); objs.len()];
+        for (i, os) in outs.iter().enumerate() {
+            for &y in os {
+                made_by[y as usize].push(i as u32);
+            }
+        }
+        let opt = prepared(ctx, method)?.and_then(|o| {
+            let cost: Vec<f64> = objs.iter().map(|&x| o.cost[x as usize]).collect();
+            let choice = objs
+                .iter()
+                .map(|&x| match o.choice[x as usize] {
+                    NONE => Some(NONE),
+                    f => fus.binary_search(&f).ok().map(|i| i as u32),
+                })
+                .collect::<Option<Vec<u32>>>()?;
+            Some((cost, choice))
+        });
+        let strict = opt.as_ref().is_some_and(|(cost, _)| {
+            weight.iter().all(|&w| w > 0.0)
+                && needed.iter().zip(&weight).all(|(ins, &w)| {
+                    let (mut c, mut top) = (w, f64::NEG_INFINITY);
+                    for &x in ins {
+                        c += cost[x as usize];
+                        top = top.max(cost[x as usize]);
+                    }
+                    !c.is_finite() || c > top
+                })
+        });
         Ok(Self {
             goal: at[&goal],
             objs,
@@ -130,8 +182,11 @@ impl Local {
             needed,
             outs,
             needed_by,
+            made_by,
             weight,
             leaf_cost,
+            opt,
+            strict,
         })
     }
 }
@@ -176,6 +231,13 @@ struct Solved {
     units: Vec<u32>,
 }
 
+/// What `solve_seeded` found: the best tree, no tree, or that the full run is needed.
+enum Seeded {
+    Tree(Solved),
+    Empty,
+    Full,
+}
+
 /// Reusable per-run state of Knuth's algorithm over the local graph.
 struct Work {
     cost: Vec<f64>,
@@ -185,6 +247,14 @@ struct Work {
     fixed: Vec<u32>,
     banned: Vec<bool>,
     heap: BinaryHeap<Entry>,
+    /// `solve_seeded`: the run's stamp on affected objects, relevant units and the seeded
+    /// objects; the affected objects and the relevant units.
+    epoch: u32,
+    stamp: Vec<u32>,
+    ustamp: Vec<u32>,
+    fstamp: Vec<u32>,
+    list: Vec<u32>,
+    units: Vec<u32>,
 }
 
 impl Work {
@@ -197,6 +267,12 @@ impl Work {
             fixed: vec![NONE; g.objs.len()],
             banned: vec![false; g.objs.len()],
             heap: BinaryHeap::new(),
+            epoch: 0,
+            stamp: vec![0; g.objs.len()],
+            ustamp: vec![0; g.fus.len()],
+            fstamp: vec![0; g.objs.len()],
+            list: Vec::new(),
+            units: Vec::new(),
         }
     }
 }
@@ -292,6 +368,200 @@ impl Local {
             preorder,
             units,
         })
+    }
+
+    /// The best tree of a subspace from the kitchen's optimum: read from it for the whole
+    /// space; otherwise Knuth's algorithm over the *affected* objects only (the constrained
+    /// ones and every object one of them is in the ancestry of), seeded with the optimum's
+    /// final costs of the unaffected inputs of their units: the others keep the optimum's
+    /// cost and choice (their ancestry has no constraint). Exact when every unit costs more
+    /// than each of its inputs (`strict`, checked again on each unit fired): Knuth then
+    /// finalises objects in (cost, id) order, so every unit fires before the same objects as
+    /// in the full run, and the choices (ties included) are the same.
+    fn solve_seeded(&self, w: &[f64], c: &Constraints, work: &mut Work) -> Seeded {
+        let Some((ocost, ochoice)) = self.opt.as_ref() else {
+            return Seeded::Full;
+        };
+        let g = self.goal as usize;
+        if c.fixed.is_empty() && c.banned.is_empty() {
+            if !ocost[g].is_finite() {
+                return Seeded::Empty;
+            }
+            let (preorder, units) = self.read(&|o| ochoice[o as usize]);
+            return Seeded::Tree(Solved {
+                cost: ocost[g],
+                preorder,
+                units,
+            });
+        }
+        if !self.strict {
+            return Seeded::Full;
+        }
+        work.epoch = work.epoch.wrapping_add(1);
+        if work.epoch == 0 {
+            work.stamp.fill(0);
+            work.ustamp.fill(0);
+            work.fstamp.fill(0);
+            work.epoch = 1;
+        }
+        let e = work.epoch;
+        let mut list = std::mem::take(&mut work.list);
+        let mut units = std::mem::take(&mut work.units);
+        list.clear();
+        units.clear();
+        for &(o, _) in c.fixed.iter().chain(&c.banned) {
+            if work.stamp[o as usize] != e {
+                work.stamp[o as usize] = e;
+                list.push(o);
+            }
+        }
+        let mut i = 0;
+        while let Some(&o) = list.get(i) {
+            i += 1;
+            for &f in &self.needed_by[o as usize] {
+                for &y in &self.outs[f as usize] {
+                    if work.stamp[y as usize] != e {
+                        work.stamp[y as usize] = e;
+                        list.push(y);
+                    }
+                }
+            }
+        }
+        let ok = work.stamp[g] == e && self.run_seeded(w, c, work, &list, &mut units, ocost);
+        work.list = list;
+        work.units = units;
+        if !ok {
+            return Seeded::Full;
+        }
+        if !work.done[g] || !work.cost[g].is_finite() {
+            return Seeded::Empty;
+        }
+        let (preorder, units) = self.read(&|o| {
+            if work.stamp[o as usize] == e {
+                work.choice[o as usize]
+            } else {
+                ochoice[o as usize]
+            }
+        });
+        Seeded::Tree(Solved {
+            cost: work.cost[g],
+            preorder,
+            units,
+        })
+    }
+
+    /// Knuth's algorithm over the affected objects `list` (see `solve_seeded`): whether every
+    /// unit fired cost more than each of its inputs.
+    fn run_seeded(
+        &self,
+        w: &[f64],
+        c: &Constraints,
+        work: &mut Work,
+        list: &[u32],
+        units: &mut Vec<u32>,
+        ocost: &[f64],
+    ) -> bool {
+        let e = work.epoch;
+        work.heap.clear();
+        for &y in list {
+            let yi = y as usize;
+            work.cost[yi] = f64::INFINITY;
+            work.choice[yi] = NONE;
+            work.done[yi] = false;
+            for &f in &self.made_by[yi] {
+                if work.ustamp[f as usize] != e {
+                    work.ustamp[f as usize] = e;
+                    work.left[f as usize] = self.needed[f as usize].len() as u32;
+                    units.push(f);
+                }
+            }
+        }
+        for &f in units.iter() {
+            for &x in &self.needed[f as usize] {
+                let xi = x as usize;
+                if work.stamp[xi] != e && work.fstamp[xi] != e {
+                    work.fstamp[xi] = e;
+                    work.done[xi] = false;
+                    work.cost[xi] = ocost[xi];
+                    if ocost[xi].is_finite() {
+                        work.heap.push(Entry {
+                            cost: ocost[xi],
+                            obj: x,
+                        });
+                    }
+                }
+            }
+        }
+        for &(o, f) in &c.fixed {
+            work.fixed[o as usize] = f;
+        }
+        for &(o, _) in &c.banned {
+            work.banned[o as usize] = true;
+        }
+        let allowed = |work: &Work, y: u32, f: u32| {
+            let fx = work.fixed[y as usize];
+            (fx == NONE || fx == f) && !(work.banned[y as usize] && c.banned.contains(&(y, f)))
+        };
+        let fire = |f: u32, work: &mut Work| -> bool {
+            let (mut cost, mut top) = (w[f as usize], f64::NEG_INFINITY);
+            for &x in &self.needed[f as usize] {
+                cost += work.cost[x as usize];
+                top = top.max(work.cost[x as usize]);
+            }
+            for &y in &self.outs[f as usize] {
+                let yi = y as usize;
+                if work.stamp[yi] != e || work.done[yi] || !allowed(work, y, f) {
+                    continue;
+                }
+                let (old_cost, old_choice) = (work.cost[yi], work.choice[yi]);
+                #[allow(clippy::float_cmp)]
+                let better = cost < old_cost || (cost == old_cost && f < old_choice);
+                if better {
+                    if cost < old_cost {
+                        work.heap.push(Entry { cost, obj: y });
+                    }
+                    work.cost[yi] = cost;
+                    work.choice[yi] = f;
+                }
+            }
+            !cost.is_finite() || cost > top
+        };
+        let mut ok = true;
+        for &f in units.iter() {
+            if self.needed[f as usize].is_empty() {
+                ok &= fire(f, work);
+            }
+        }
+        while let Some(Entry { cost, obj: o }) = work.heap.pop() {
+            let oi = o as usize;
+            if !ok {
+                break;
+            }
+            if work.done[oi] || cost > work.cost[oi] {
+                continue;
+            }
+            work.done[oi] = true;
+            if o == self.goal {
+                break;
+            }
+            for &f in &self.needed_by[oi] {
+                if work.ustamp[f as usize] != e {
+                    continue;
+                }
+                let l = &mut work.left[f as usize];
+                *l -= 1;
+                if *l == 0 {
+                    ok &= fire(f, work);
+                }
+            }
+        }
+        for &(o, _) in &c.fixed {
+            work.fixed[o as usize] = NONE;
+        }
+        for &(o, _) in &c.banned {
+            work.banned[o as usize] = false;
+        }
+        ok
     }
 
     /// The tree of the choices from the goal: (pre-order objects with their choices, units in
@@ -413,10 +683,12 @@ struct Partition {
     work: Work,
     /// Subspaces solved so far.
     solved: u64,
+    /// `w` is the plain weights and the kitchen's optimum is known: `solve_seeded` applies.
+    seeded: bool,
 }
 
 impl Partition {
-    fn new(g: &Local, w: Vec<f64>) -> Self {
+    fn new(g: &Local, w: Vec<f64>, seeded: bool) -> Self {
         let mut p = Self {
             w,
             heap: BinaryHeap::new(),
@@ -424,6 +696,7 @@ impl Partition {
             listed: HashSet::new(),
             work: Work::new(g),
             solved: 0,
+            seeded: seeded && g.opt.is_some(),
         };
         p.push(f64::NEG_INFINITY, 1, Node::Open(Constraints::default()));
         p
@@ -446,7 +719,17 @@ impl Partition {
                 Node::Open(c) => {
                     self.solved += 1;
                     ctx.check_stop()?;
-                    if let Some(s) = g.solve(&self.w, &c, &mut self.work) {
+                    let s = if self.seeded {
+                        g.solve_seeded(&self.w, &c, &mut self.work)
+                    } else {
+                        Seeded::Full
+                    };
+                    let s = match s {
+                        Seeded::Tree(s) => Some(s),
+                        Seeded::Empty => None,
+                        Seeded::Full => g.solve(&self.w, &c, &mut self.work),
+                    };
+                    if let Some(s) = s {
                         self.push(s.cost, 0, Node::Done(c, s));
                     }
                 }
@@ -489,11 +772,17 @@ pub struct Ranked {
 pub struct KBest {
     goal: u32,
     method: Method,
-    /// `None` when the goal is in the kitchen (one tree, empty) or has no tree.
+    /// `None` when the goal is in the kitchen (one tree, empty) or has no tree, or until the
+    /// second tree when the first is read from the kitchen's optimum.
     graph: Option<Local>,
     part: Option<Partition>,
     /// The goal in the kitchen: the empty tree is still to be given.
     trivial: bool,
+    /// The first tree is still to be read from the kitchen's optimum (as the optimal plan).
+    pending: bool,
+    /// The units of the first tree, given from the optimum: the partition is built on the
+    /// next call.
+    given: Option<Vec<u32>>,
     diverse: bool,
     /// Diverse mode: the sets listed so far, and how many of them use each local unit.
     earlier: HashSet<Vec<u32>>,
@@ -510,20 +799,29 @@ pub fn diverse_penalty(method: Method) -> f64 {
 }
 
 impl KBest {
-    /// Prepares the enumeration (the goal's ancestry and its weights); no tree is computed yet.
+    /// Prepares the enumeration; no tree is computed yet. With the kitchen's optimum known,
+    /// the first tree is read from it (and an underivable goal answers at once); the goal's
+    /// ancestry is built only for a second tree.
     pub fn new(ctx: &Context<'_>, goal: u32, method: Method, diverse: bool) -> Result<Self> {
         if goal as usize >= ctx.foon.object_count() {
             return Err(Error::Invalid(format!("object {goal} is out of range")));
         }
+        // Checks the method.
+        weights(ctx, method, &[])?;
         let trivial = ctx.in_kitchen(goal);
+        let mut pending = false;
         let graph = if trivial {
-            // Still checks the method.
-            weights(ctx, method, &[])?;
+            None
+        } else if let Some(o) = prepared(ctx, method)? {
+            // No tree when the optimum is infinite (or the goal not derivable).
+            pending = o.cost[goal as usize].is_finite();
             None
         } else {
             Some(Local::new(ctx, goal, method)?)
         };
-        let part = graph.as_ref().map(|g| Partition::new(g, g.weight.clone()));
+        let part = graph
+            .as_ref()
+            .map(|g| Partition::new(g, g.weight.clone(), true));
         let uses = graph.as_ref().map_or(Vec::new(), |g| vec![0; g.fus.len()]);
         Ok(Self {
             goal,
@@ -531,6 +829,8 @@ impl KBest {
             graph,
             part,
             trivial,
+            pending,
+            given: None,
             diverse,
             earlier: HashSet::new(),
             uses,
@@ -538,9 +838,40 @@ impl KBest {
         })
     }
 
-    /// Subspaces solved so far (Knuth runs over the goal's ancestry).
+    /// Subspaces solved so far (the first from the kitchen's optimum, the others by Knuth's
+    /// algorithm over the goal's ancestry).
     pub fn evaluations(&self) -> u64 {
         self.evaluations + self.part.as_ref().map_or(0, |p| p.solved)
+    }
+
+    fn reported(&self, cost: f64) -> f64 {
+        if self.method == Method::OptimalSuccess {
+            (-cost).exp()
+        } else {
+            cost
+        }
+    }
+
+    /// Diverse mode: counts the uses of a listed tree's units and restarts the partition
+    /// under the penalised weights.
+    fn penalise(&mut self, units: &[u32]) {
+        let (Some(g), Some(part)) = (&self.graph, &mut self.part) else {
+            return;
+        };
+        for f in units {
+            if let Ok(i) = g.fus.binary_search(f) {
+                self.uses[i] += 1;
+            }
+        }
+        let penalty = diverse_penalty(self.method);
+        let w: Vec<f64> = g
+            .weight
+            .iter()
+            .zip(&self.uses)
+            .map(|(&w, &u)| w + penalty * f64::from(u))
+            .collect();
+        self.evaluations += part.solved;
+        *part = Partition::new(g, w, false);
     }
 
     /// The next tree, or `None` when there is none left.
@@ -556,6 +887,36 @@ impl KBest {
                 units: Vec::new(),
                 cost,
             }));
+        }
+        if self.pending {
+            self.pending = false;
+            if let Some(o) = prepared(ctx, self.method)? {
+                let units = tree::emit(ctx, self.goal, |x| o.choice[x as usize]);
+                let cost = self.reported(o.cost[self.goal as usize]);
+                self.evaluations = 1;
+                self.given = Some(units.clone());
+                return Ok(Some(Ranked { units, cost }));
+            }
+        }
+        if let Some(first) = self.given.take() {
+            let g = Local::new(ctx, self.goal, self.method)?;
+            self.uses = vec![0; g.fus.len()];
+            let mut part = Partition::new(&g, g.weight.clone(), true);
+            if !self.diverse {
+                // The root subspace again (its tree is the one given): listed, its children
+                // pushed.
+                let root = part.next(&g, ctx)?;
+                debug_assert!(root.is_some_and(|s| s.units == first));
+                self.evaluations = 0;
+            }
+            self.graph = Some(g);
+            self.part = Some(part);
+            if self.diverse {
+                let mut set = first.clone();
+                set.sort_unstable();
+                self.earlier.insert(set);
+                self.penalise(&first);
+            }
         }
         let (Some(g), Some(part)) = (&self.graph, &mut self.part) else {
             return Ok(None);
@@ -577,32 +938,15 @@ impl KBest {
             return Ok(None);
         };
         let cost = if self.diverse {
-            // Penalise this tree's units for the next one, and restart the partition.
-            let at: HashMap<u32, usize> = g.fus.iter().enumerate().map(|(i, &f)| (f, i)).collect();
-            for f in &s.units {
-                self.uses[at[f]] += 1;
-            }
-            let penalty = diverse_penalty(self.method);
-            let w: Vec<f64> = g
-                .weight
-                .iter()
-                .zip(&self.uses)
-                .map(|(&w, &u)| w + penalty * f64::from(u))
-                .collect();
-            self.evaluations += part.solved;
-            *part = Partition::new(g, w);
-            g.tree_cost(&g.weight, &s.preorder)
+            let cost = g.tree_cost(&g.weight, &s.preorder);
+            self.penalise(&s.units);
+            cost
         } else {
             s.cost
         };
-        let cost = if self.method == Method::OptimalSuccess {
-            (-cost).exp()
-        } else {
-            cost
-        };
         Ok(Some(Ranked {
             units: s.units,
-            cost,
+            cost: self.reported(cost),
         }))
     }
 

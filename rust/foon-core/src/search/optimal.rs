@@ -311,7 +311,7 @@ fn knuth_all(
 /// The optimum of `objective` for the context's kitchen (computed on first use). The
 /// objectives of the optimal methods are computed together, on the thread pool (one plan of
 /// any of them makes the others free): `optimal-success`'s only when every motion has a rate.
-fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
+pub(super) fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
     if objective != Objective::Shopping && !ctx.has_optimum(objective) {
         let success = || {
             if ctx.all_rated() {
