@@ -132,6 +132,128 @@ pub(super) fn legend(names: &[String]) -> String {
     out
 }
 
+/// One point of a front plot: its x (human steps), its y (success in [0, 1]) and its title.
+pub(super) struct Point {
+    pub x: u32,
+    pub y: f64,
+    pub title: String,
+}
+
+const FRONT_WIDTH: f64 = 420.0;
+const FRONT_HEIGHT: f64 = 260.0;
+const FRONT_LEFT: f64 = 56.0;
+const FRONT_RIGHT: f64 = 20.0;
+const FRONT_TOP: f64 = 34.0;
+const FRONT_BOTTOM: f64 = 44.0;
+
+/// A front as an `<svg class="chart front">`: x from 0 to the largest x (at least 1), y
+/// (success) from 0 to 1, each point a `circle.point` carrying `data-x` and `data-y` (the
+/// values, y with 6 decimals), joined by a staircase (`path.front`): success holds between
+/// points.
+pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point]) -> String {
+    let max_x = points.iter().map(|p| p.x).max().unwrap_or(0).max(1);
+    let (w, h) = (FRONT_WIDTH, FRONT_HEIGHT);
+    let plot_w = w - FRONT_LEFT - FRONT_RIGHT;
+    let plot_h = h - FRONT_TOP - FRONT_BOTTOM;
+    let px = |x: u32| FRONT_LEFT + f64::from(x) / f64::from(max_x) * plot_w;
+    let py = |y: f64| {
+        let y = if y.is_finite() {
+            y.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        FRONT_TOP + (1.0 - y) * plot_h
+    };
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "<svg class=\"chart front\" data-measure=\"front\" xmlns=\"http://www.w3.org/2000/svg\" \
+         width=\"{w:.1}\" height=\"{h:.1}\" viewBox=\"0 0 {w:.1} {h:.1}\" role=\"img\" \
+         aria-label=\"{}\">",
+        escape(title)
+    );
+    let _ = writeln!(
+        out,
+        "<text class=\"title\" x=\"{:.1}\" y=\"18.0\" text-anchor=\"middle\">{}</text>",
+        w / 2.0,
+        escape(title)
+    );
+    let base = FRONT_TOP + plot_h;
+    let _ = writeln!(
+        out,
+        "<line class=\"axis\" x1=\"{FRONT_LEFT:.1}\" y1=\"{base:.1}\" x2=\"{:.1}\" \
+         y2=\"{base:.1}\" stroke=\"#555555\"/>",
+        FRONT_LEFT + plot_w
+    );
+    let _ = writeln!(
+        out,
+        "<line class=\"axis\" x1=\"{FRONT_LEFT:.1}\" y1=\"{FRONT_TOP:.1}\" x2=\"{FRONT_LEFT:.1}\" \
+         y2=\"{base:.1}\" stroke=\"#555555\"/>"
+    );
+    for i in 0..=4 {
+        let y = f64::from(i) / 4.0;
+        let _ = writeln!(
+            out,
+            "<text class=\"tick\" x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{y:.2}</text>",
+            FRONT_LEFT - 6.0,
+            py(y) + 4.0
+        );
+    }
+    // At most about 10 labelled ticks on x.
+    let step = max_x.div_ceil(10).max(1);
+    let mut x = 0;
+    while x <= max_x {
+        let _ = writeln!(
+            out,
+            "<text class=\"tick\" x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{x}</text>",
+            px(x),
+            base + 14.0
+        );
+        x += step;
+    }
+    let _ = writeln!(
+        out,
+        "<text class=\"axis-title\" x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>",
+        FRONT_LEFT + plot_w / 2.0,
+        h - 8.0,
+        escape(x_title)
+    );
+    let _ = writeln!(
+        out,
+        "<text class=\"axis-title\" x=\"14.0\" y=\"{:.1}\" text-anchor=\"middle\" \
+         transform=\"rotate(-90 14.0 {:.1})\">{}</text>",
+        FRONT_TOP + plot_h / 2.0,
+        FRONT_TOP + plot_h / 2.0,
+        escape(y_title)
+    );
+    if let Some(first) = points.first() {
+        let mut d = format!("M {:.1} {:.1}", px(first.x), py(first.y));
+        for pair in points.windows(2) {
+            let _ = write!(d, " H {:.1} V {:.1}", px(pair[1].x), py(pair[1].y));
+        }
+        let _ = writeln!(
+            out,
+            "<path class=\"front\" d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>",
+            colour(0)
+        );
+    }
+    for p in points {
+        let _ = writeln!(
+            out,
+            "<circle class=\"point\" data-x=\"{}\" data-y=\"{:.6}\" cx=\"{:.1}\" cy=\"{:.1}\" \
+             r=\"5.0\" fill=\"{}\"><title>{}</title></circle>",
+            p.x,
+            p.y,
+            px(p.x),
+            py(p.y),
+            colour(1),
+            escape(&p.title)
+        );
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,5 +288,27 @@ mod tests {
         let l = legend(&names(9));
         assert_eq!(l.matches("<li>").count(), 9);
         assert!(l.contains(colour(8)));
+    }
+
+    #[test]
+    fn a_front_has_a_circle_per_point() {
+        let pts = [
+            Point {
+                x: 0,
+                y: 0.25,
+                title: "a<".into(),
+            },
+            Point {
+                x: 2,
+                y: 1.0,
+                title: "b".into(),
+            },
+        ];
+        let svg = front("t", "x", "y", &pts);
+        assert_eq!(svg.matches("<circle class=\"point\"").count(), 2);
+        assert!(svg.contains("data-x=\"2\" data-y=\"1.000000\""));
+        assert!(svg.contains("a&lt;") && !svg.contains("a<"));
+        assert_eq!(svg.matches("<path class=\"front\"").count(), 1);
+        assert!(!front("t", "x", "y", &[]).contains("<circle"));
     }
 }
