@@ -167,6 +167,15 @@ class SplitResult:
     cycle: tuple[int, ...]
     cycle_units: tuple[int, ...]
     expanded: int
+    _native: _foon.Split | None = field(default=None, repr=False, compare=False)
+
+    def write(self, format: str, *, title: str | None = None) -> str:
+        """The split as a self-contained page (``format`` html): the front as a chart of
+        success against human steps, the best success per budget, and each front point's
+        steps (who does what)."""
+        if self._native is None:
+            raise ValueError("this split was not computed by the core: nothing to write")
+        return self._native.write(format, title=title).decode("utf-8")
 
     def to_dict(self, foon: Foon | None = None) -> dict[str, Any]:
         """A JSON-ready dict (with ``foon``, each step also gives its motion)."""
@@ -241,6 +250,7 @@ def _result(d: dict[str, Any]) -> SplitResult:
         cycle=tuple(e[1]),
         cycle_units=tuple(e[2]),
         expanded=d["expanded"],
+        _native=d["native"],
     )
 
 

@@ -146,12 +146,30 @@ const FRONT_RIGHT: f64 = 20.0;
 const FRONT_TOP: f64 = 34.0;
 const FRONT_BOTTOM: f64 = 44.0;
 
+/// A success for people: 6 decimals, or 4 significant digits in scientific notation below
+/// 0.001 (long trees have tiny successes).
+pub(super) fn success_text(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.6}")
+    }
+}
+
 /// A front as an `<svg class="chart front">`: x from 0 to the largest x (at least 1), y
-/// (success) from 0 to 1, each point a `circle.point` carrying `data-x` and `data-y` (the
-/// values, y with 6 decimals), joined by a staircase (`path.front`): success holds between
-/// points.
+/// (success) from 0 to 1, or to the largest y when that is below 0.5 (so that small
+/// successes are seen), each point a `circle.point` carrying `data-x` and `data-y` (the
+/// values, y written so that it reads back exactly), joined by a staircase (`path.front`):
+/// success holds between points.
 pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point]) -> String {
     let max_x = points.iter().map(|p| p.x).max().unwrap_or(0).max(1);
+    let top = points
+        .iter()
+        .map(|p| p.y)
+        .filter(|y| y.is_finite())
+        .fold(0.0f64, f64::max);
+    let small = top > 0.0 && top < 0.5;
+    let max_y = if small { top } else { 1.0 };
     let (w, h) = (FRONT_WIDTH, FRONT_HEIGHT);
     let plot_w = w - FRONT_LEFT - FRONT_RIGHT;
     let plot_h = h - FRONT_TOP - FRONT_BOTTOM;
@@ -191,10 +209,15 @@ pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point])
          y2=\"{base:.1}\" stroke=\"#555555\"/>"
     );
     for i in 0..=4 {
-        let y = f64::from(i) / 4.0;
+        let y = f64::from(i) / 4.0 * max_y;
+        let label = if small {
+            success_text(y)
+        } else {
+            format!("{y:.2}")
+        };
         let _ = writeln!(
             out,
-            "<text class=\"tick\" x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{y:.2}</text>",
+            "<text class=\"tick\" x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>",
             FRONT_LEFT - 6.0,
             py(y) + 4.0
         );
@@ -240,7 +263,7 @@ pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point])
     for p in points {
         let _ = writeln!(
             out,
-            "<circle class=\"point\" data-x=\"{}\" data-y=\"{:.6}\" cx=\"{:.1}\" cy=\"{:.1}\" \
+            "<circle class=\"point\" data-x=\"{}\" data-y=\"{}\" cx=\"{:.1}\" cy=\"{:.1}\" \
              r=\"5.0\" fill=\"{}\"><title>{}</title></circle>",
             p.x,
             p.y,
@@ -306,7 +329,9 @@ mod tests {
         ];
         let svg = front("t", "x", "y", &pts);
         assert_eq!(svg.matches("<circle class=\"point\"").count(), 2);
-        assert!(svg.contains("data-x=\"2\" data-y=\"1.000000\""));
+        assert!(svg.contains("data-x=\"2\" data-y=\"1\""));
+        assert_eq!(success_text(1.5e-7), "1.500e-7");
+        assert_eq!(success_text(0.25), "0.250000");
         assert!(svg.contains("a&lt;") && !svg.contains("a<"));
         assert_eq!(svg.matches("<path class=\"front\"").count(), 1);
         assert!(!front("t", "x", "y", &[]).contains("<circle"));

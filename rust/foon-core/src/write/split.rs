@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::io;
 
-use super::chart::{self, Point};
+use super::chart::{self, Point, success_text};
 use super::html::{escape, page};
 use super::{Format, Options, put};
 use crate::error::{Error, Result};
@@ -54,7 +54,11 @@ pub fn write_split(
         .map(|p| Point {
             x: p.human,
             y: p.success,
-            title: format!("{} human step(s): success {:.6}", p.human, p.success),
+            title: format!(
+                "{} human step(s): success {}",
+                p.human,
+                success_text(p.success)
+            ),
         })
         .collect();
     body.push_str("<h2>Success against human steps</h2>\n<div class=\"charts\">\n");
@@ -70,7 +74,7 @@ pub fn write_split(
          steps</th><th scope=\"col\">best success</th></tr></thead>\n<tbody>\n",
     );
     for (m, b) in s.best.iter().enumerate() {
-        let cell = b.map_or_else(|| "-".to_owned(), |x| format!("{x:.6}"));
+        let cell = b.map_or_else(|| "-".to_owned(), success_text);
         let _ = writeln!(
             body,
             "<tr><td class=\"num\">{m}</td><td class=\"num\">{cell}</td></tr>"
@@ -80,9 +84,12 @@ pub fn write_split(
     for (i, p) in s.front.iter().enumerate() {
         let _ = writeln!(
             body,
-            "<section class=\"point\" id=\"point-{i}\" data-human=\"{}\" data-success=\"{:.6}\">\n\
-             <h3>{} human step(s): success {:.6}</h3>\n<ol class=\"steps\">",
-            p.human, p.success, p.human, p.success
+            "<section class=\"point\" id=\"point-{i}\" data-human=\"{}\" data-success=\"{}\">\n\
+             <h3>{} human step(s): success {}</h3>\n<ol class=\"steps\">",
+            p.human,
+            p.success,
+            p.human,
+            success_text(p.success)
         );
         for (j, t) in p.steps.iter().enumerate() {
             let times = if t.times == 1 {
