@@ -93,6 +93,8 @@ def test_course_blocked_goals_as_pictures(course: Course, label: str, tmp_path: 
     svg = str(e.write("svg"))
     assert len(re.findall(r'class="node motion[ "]', svg)) == len(motions)
     assert len(re.findall(r'class="node object[ "]', svg)) == len(objects)
+    png = e.write("png")
+    assert isinstance(png, bytes) and png.startswith(b"\x89PNG\r\n\x1a\n")
     text = str(e.write("html"))
     for fetch in ("<link", " src=", "@import", "url(", "href="):
         assert fetch not in text

@@ -9,7 +9,7 @@ import sys
 
 import foon
 from foon._cli_commands import as_goal, inputs, read_raw_goals
-from foon.cli import CliError, UsageError, _common
+from foon.cli import CliError, UsageError, _common, _nodes_arg
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -56,7 +56,7 @@ def add_explain_options(sp: argparse.ArgumentParser) -> None:
     sp.add_argument("--title", metavar="TEXT", help="with --format: the picture's title")
     sp.add_argument(
         "--max-nodes",
-        type=int,
+        type=_nodes_arg,
         metavar="N",
         help=f"largest picture drawn, in nodes (default: {foon.MAX_PICTURE_NODES:,})",
     )
@@ -99,8 +99,6 @@ def cmd_explain(args: argparse.Namespace) -> int:
         raise UsageError("-o, --title and --max-nodes go with --format")
     if args.format is not None and args.json:
         raise UsageError("--json and --format are exclusive")
-    if args.max_nodes is not None and args.max_nodes < 0:
-        raise UsageError("--max-nodes must be at least 0")
     f, kitchen, motions, utensils, ex = inputs(args)
     goals = read_raw_goals(args, ex)
     if len(goals) != 1:

@@ -156,32 +156,81 @@ pub(super) fn success_text(x: f64) -> String {
     }
 }
 
+/// The y axis of a front: linear from 0 to 1 (or to the largest y when it is below 0.5), or,
+/// when the positive values span more than two orders of magnitude or all lie below 0.001
+/// (long trees have tiny successes), logarithmic over the decades that hold them (a value of
+/// 0 is drawn at the bottom).
+enum Scale {
+    Linear(f64),
+    Log(i32, i32),
+}
+
+impl Scale {
+    fn of(values: impl Iterator<Item = f64>) -> Self {
+        let pos: Vec<f64> = values.filter(|y| y.is_finite() && *y > 0.0).collect();
+        let (lo, hi) = pos
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &y| (a.min(y), b.max(y)));
+        if pos.is_empty() {
+            return Self::Linear(1.0);
+        }
+        if hi < 1e-3 || hi / lo > 100.0 {
+            // Decades: exponents of 10 within i32 for every finite positive f64.
+            let a = lo.log10().floor() as i32;
+            let b = (hi.log10().ceil() as i32).max(a + 1);
+            return Self::Log(a, b);
+        }
+        Self::Linear(if hi < 0.5 { hi } else { 1.0 })
+    }
+
+    /// Where `y` lies, from 0 (bottom) to 1 (top).
+    fn at(&self, y: f64) -> f64 {
+        if !y.is_finite() || y <= 0.0 {
+            return 0.0;
+        }
+        match *self {
+            Self::Linear(max) => (y / max).clamp(0.0, 1.0),
+            Self::Log(a, b) => ((y.log10() - f64::from(a)) / f64::from(b - a)).clamp(0.0, 1.0),
+        }
+    }
+
+    /// About five labelled ticks: (value, label).
+    fn ticks(&self) -> Vec<(f64, String)> {
+        match *self {
+            Self::Linear(max) => (0..=4)
+                .map(|i| {
+                    let y = f64::from(i) / 4.0 * max;
+                    let label = if max < 0.5 {
+                        success_text(y)
+                    } else {
+                        format!("{y:.2}")
+                    };
+                    (y, label)
+                })
+                .collect(),
+            Self::Log(a, b) => {
+                let step = usize::try_from((b - a + 3) / 4).unwrap_or(1).max(1);
+                (a..=b)
+                    .step_by(step)
+                    .map(|k| (10f64.powi(k), format!("1e{k}")))
+                    .collect()
+            }
+        }
+    }
+}
+
 /// A front as an `<svg class="chart front">`: x from 0 to the largest x (at least 1), y
-/// (success) from 0 to 1, or to the largest y when that is below 0.5 (so that small
-/// successes are seen), each point a `circle.point` carrying `data-x` and `data-y` (the
-/// values, y written so that it reads back exactly), joined by a staircase (`path.front`):
-/// success holds between points.
+/// (success) on a [`Scale`], each point a `circle.point` carrying `data-x` and `data-y`
+/// (the values, y in Rust's shortest exponent form, which reads back exactly), joined by a
+/// staircase (`path.front`): success holds between points.
 pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point]) -> String {
     let max_x = points.iter().map(|p| p.x).max().unwrap_or(0).max(1);
-    let top = points
-        .iter()
-        .map(|p| p.y)
-        .filter(|y| y.is_finite())
-        .fold(0.0f64, f64::max);
-    let small = top > 0.0 && top < 0.5;
-    let max_y = if small { top } else { 1.0 };
     let (w, h) = (FRONT_WIDTH, FRONT_HEIGHT);
     let plot_w = w - FRONT_LEFT - FRONT_RIGHT;
     let plot_h = h - FRONT_TOP - FRONT_BOTTOM;
     let px = |x: u32| FRONT_LEFT + f64::from(x) / f64::from(max_x) * plot_w;
-    let py = |y: f64| {
-        let y = if y.is_finite() {
-            y.clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        FRONT_TOP + (1.0 - y) * plot_h
-    };
+    let scale = Scale::of(points.iter().map(|p| p.y));
+    let py = |y: f64| FRONT_TOP + (1.0 - scale.at(y)) * plot_h;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -208,13 +257,7 @@ pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point])
         "<line class=\"axis\" x1=\"{FRONT_LEFT:.1}\" y1=\"{FRONT_TOP:.1}\" x2=\"{FRONT_LEFT:.1}\" \
          y2=\"{base:.1}\" stroke=\"#555555\"/>"
     );
-    for i in 0..=4 {
-        let y = f64::from(i) / 4.0 * max_y;
-        let label = if small {
-            success_text(y)
-        } else {
-            format!("{y:.2}")
-        };
+    for (y, label) in scale.ticks() {
         let _ = writeln!(
             out,
             "<text class=\"tick\" x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>",
@@ -263,7 +306,7 @@ pub(super) fn front(title: &str, x_title: &str, y_title: &str, points: &[Point])
     for p in points {
         let _ = writeln!(
             out,
-            "<circle class=\"point\" data-x=\"{}\" data-y=\"{}\" cx=\"{:.1}\" cy=\"{:.1}\" \
+            "<circle class=\"point\" data-x=\"{}\" data-y=\"{:e}\" cx=\"{:.1}\" cy=\"{:.1}\" \
              r=\"5.0\" fill=\"{}\"><title>{}</title></circle>",
             p.x,
             p.y,
@@ -329,7 +372,23 @@ mod tests {
         ];
         let svg = front("t", "x", "y", &pts);
         assert_eq!(svg.matches("<circle class=\"point\"").count(), 2);
-        assert!(svg.contains("data-x=\"2\" data-y=\"1\""));
+        assert!(svg.contains("data-x=\"2\" data-y=\"1e0\""), "{svg}");
+        // Tiny successes: a log axis over their decades.
+        let tiny = [
+            Point {
+                x: 0,
+                y: 2.5e-73,
+                title: String::new(),
+            },
+            Point {
+                x: 1,
+                y: 3.0e-70,
+                title: String::new(),
+            },
+        ];
+        let log = front("t", "x", "y", &tiny);
+        assert!(log.contains(">1e-73<") && log.contains(">1e-69<"), "{log}");
+        assert!(log.contains("data-y=\"2.5e-73\""));
         assert_eq!(success_text(1.5e-7), "1.500e-7");
         assert_eq!(success_text(0.25), "0.250000");
         assert!(svg.contains("a&lt;") && !svg.contains("a<"));
