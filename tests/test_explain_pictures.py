@@ -222,3 +222,21 @@ def test_cli_writes_pictures(course: Course, tmp_path: Path) -> None:
     with pytest.raises(foon.cli.UsageError):
         run(add_split_options, cmd_split,
             [*common, "--goal", json.dumps(g1), "--format", "html", "--json"])  # fmt: skip
+
+
+def test_copies_pickle_without_the_picture() -> None:
+    """Explanations and splits still copy and pickle (equal to the original); a copy says
+    how to get its picture back."""
+    import copy
+    import pickle
+
+    f = foon.Foon.from_text("O\tsalt\nS\tdry\nM\tmix\nO\tbrine\nS\tsalty\n//\n")
+    goal = foon.Object("brine", ("salty",))
+    e = f.explain(goal, [])
+    r = f.split(goal, [], {"robot": {"mix": 0.5}}, 1)
+    for x, again in ((e, "explain the goal again"), (r, "split the goal again")):
+        for y in (copy.deepcopy(x), pickle.loads(pickle.dumps(x))):
+            assert y == x
+            with pytest.raises(ValueError, match=again):
+                y.write("html")
+    assert "digraph" in e.to_dot() and 'data-page="split"' in r.write("html")

@@ -102,6 +102,15 @@ class GoalExplanation:
     def derivable(self) -> bool:
         return self.status != "blocked"
 
+    def __getstate__(self) -> dict[str, Any]:
+        # The core's copy is not pickled: a copy or an unpickled explanation has none to draw.
+        return {k: v for k, v in self.__dict__.items() if k != "_native"}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        for k, v in state.items():
+            object.__setattr__(self, k, v)
+        object.__setattr__(self, "_native", None)
+
     def write(
         self, format: str, *, title: str | None = None, max_nodes: int | None = None
     ) -> str | bytes:
@@ -113,7 +122,9 @@ class GoalExplanation:
         from foon import _out
 
         if self._native is None:
-            raise ValueError("this explanation was not computed by the core: nothing to draw")
+            raise ValueError(
+                "this explanation was copied or unpickled: explain the goal again to draw it"
+            )
         return _out(self._native.write(format, title=title, max_nodes=max_nodes), format)
 
     def to_dot(self, *, title: str | None = None) -> str:
