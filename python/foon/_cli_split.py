@@ -80,6 +80,14 @@ def add_split_options(sp: argparse.ArgumentParser) -> None:
         help="also the lab's method: the best robot tree, its lowest-rate steps to the human",
     )
     sp.add_argument("--json", action="store_true", help="machine-readable output")
+    sp.add_argument(
+        "--format",
+        choices=("html",),
+        default=None,
+        help="html: one goal's split as a page (the front as a chart, each point's steps)",
+    )
+    sp.add_argument("-o", "--out", metavar="FILE", help="with --format: write to FILE")
+    sp.add_argument("--title", metavar="TEXT", help="with --format: the page's title")
 
 
 def _profiles(args: argparse.Namespace, motions: foon.MotionRates | None) -> foon.Profiles:
@@ -188,8 +196,14 @@ def compare_rows(
 
 def cmd_split(args: argparse.Namespace) -> int:
     """Splits each goal; exit code 1 when a goal cannot be made or is not found."""
+    if args.format is None and (args.out or args.title):
+        raise UsageError("-o and --title go with --format")
+    if args.format is not None and args.json:
+        raise UsageError("--json and --format are exclusive")
     f, kitchen, motions, utensils, ex = inputs(args)
     goals = read_goals(args, ex)
+    if args.format is not None and len(goals) != 1:
+        raise UsageError(f"--format {args.format} takes exactly one goal")
     profiles = _profiles(args, motions)
     planner = f.planner(kitchen, utensils=utensils)
     failed = 0
@@ -206,7 +220,14 @@ def cmd_split(args: argparse.Namespace) -> int:
             fixed_tree=args.fixed_tree,
         )  # fmt: skip
         failed += not r.solved
-        if args.json:
+        if args.format is not None:
+            from foon._cli_explain import write_document
+
+            page = r.write(args.format, title=args.title).encode("utf-8")
+            write_document(args.out, page, args.format,
+                           [args.foon, args.kitchen, args.motions, args.utensils, args.goals,
+                            *[p.partition("=")[2] for p in args.profile + args.override]])  # fmt: skip
+        elif args.json:
             d = r.to_dict(f)
             d["goal"] = f.object(gid).to_dict()
             out.append(d)

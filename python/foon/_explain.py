@@ -96,10 +96,40 @@ class GoalExplanation:
     unblock: tuple[Unblock, ...]
     #: The explanation for people (several lines).
     text: str = field(repr=False)
+    _native: _foon.Explanation | None = field(default=None, repr=False, compare=False)
 
     @property
     def derivable(self) -> bool:
         return self.status != "blocked"
+
+    def __getstate__(self) -> dict[str, Any]:
+        # The core's copy is not pickled: a copy or an unpickled explanation has none to draw.
+        return {k: v for k, v in self.__dict__.items() if k != "_native"}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        for k, v in state.items():
+            object.__setattr__(self, k, v)
+        object.__setattr__(self, "_native", None)
+
+    def write(
+        self, format: str, *, title: str | None = None, max_nodes: int | None = None
+    ) -> str | bytes:
+        """The blocking part as a picture in ``format`` (dot, svg, png, pdf, html; str, or
+        bytes for png and pdf): the goal (purple), its producers (red squares), their
+        blocking inputs (green circles, marked by kind) and the blocking cycle (METHODS.md,
+        "Explaining a goal"). A goal that is not blocked is drawn as its best tree. svg,
+        png, pdf and html run Graphviz's ``dot``."""
+        from foon import _out
+
+        if self._native is None:
+            raise ValueError(
+                "this explanation was copied or unpickled: explain the goal again to draw it"
+            )
+        return _out(self._native.write(format, title=title, max_nodes=max_nodes), format)
+
+    def to_dot(self, *, title: str | None = None) -> str:
+        """The blocking part as Graphviz DOT (see :meth:`write`)."""
+        return str(self.write("dot", title=title))
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form (``foon explain --json``; fields documented in METHODS.md)."""
@@ -134,9 +164,8 @@ def explain(planner: Planner, goal_id: int, method: str, count: str) -> GoalExpl
     from foon import TaskTree
 
     f = planner.foon
-    (status, rank, plan, buyable, shopping, producers, cycle, cycle_units, unblock, text) = (
-        _foon.explain(planner._native, goal_id, method, count)
-    )
+    (status, rank, plan, buyable, shopping, producers, cycle, cycle_units, unblock, text,
+     native) = _foon.explain(planner._native, goal_id, method, count)  # fmt: skip
     units = {u.index: u for u in (f.fu(p[0]) for p in producers)}
     return GoalExplanation(
         goal=f.object(goal_id),
@@ -161,6 +190,7 @@ def explain(planner: Planner, goal_id: int, method: str, count: str) -> GoalExpl
         cycle_units=tuple(cycle_units),
         unblock=tuple(Unblock(f.object(o), o, alone) for o, alone in unblock),
         text=text,
+        _native=native,
     )
 
 

@@ -6,6 +6,7 @@ from typing import Any, Literal, TypeAlias, final
 
 __all__ = [
     "MAX_PICTURE_NODES",
+    "Explanation",
     "FindIndex",
     "Foon",
     "FoonError",
@@ -17,6 +18,7 @@ __all__ = [
     "Paths",
     "Plan",
     "Planner",
+    "Split",
     "TreeWriter",
     "__version__",
     "check",
@@ -332,7 +334,19 @@ def explain(
     list[int],
     list[tuple[int, bool]],
     str,
+    Explanation,
 ]: ...
+
+@final
+class Explanation:
+    def write(
+        self, format: str, *, title: str | None = None, max_nodes: int | None = None
+    ) -> bytes: ...
+
+@final
+class Split:
+    def write(self, format: str, *, title: str | None = None) -> bytes: ...
+
 def goal_at_level(
     planner: Planner, goal: tuple[str, list[str], list[str], str | None], level: int
 ) -> int: ...

@@ -167,6 +167,24 @@ class SplitResult:
     cycle: tuple[int, ...]
     cycle_units: tuple[int, ...]
     expanded: int
+    _native: _foon.Split | None = field(default=None, repr=False, compare=False)
+
+    def __getstate__(self) -> dict[str, Any]:
+        # The core's copy is not pickled: a copy or an unpickled split has none to draw.
+        return {k: v for k, v in self.__dict__.items() if k != "_native"}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        for k, v in state.items():
+            object.__setattr__(self, k, v)
+        object.__setattr__(self, "_native", None)
+
+    def write(self, format: str, *, title: str | None = None) -> str:
+        """The split as a self-contained page (``format`` html): the front as a chart of
+        success against human steps, the best success per budget, and each front point's
+        steps (who does what)."""
+        if self._native is None:
+            raise ValueError("this split was copied or unpickled: split the goal again to write it")
+        return self._native.write(format, title=title).decode("utf-8")
 
     def to_dict(self, foon: Foon | None = None) -> dict[str, Any]:
         """A JSON-ready dict (with ``foon``, each step also gives its motion)."""
@@ -241,6 +259,7 @@ def _result(d: dict[str, Any]) -> SplitResult:
         cycle=tuple(e[1]),
         cycle_units=tuple(e[2]),
         expanded=d["expanded"],
+        _native=d["native"],
     )
 
 

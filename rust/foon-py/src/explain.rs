@@ -5,8 +5,10 @@ use std::sync::Arc;
 
 use foon_core::explain::Explain;
 use foon_core::find::FindIndex;
+use foon_core::write::{self, Format, Options};
 use foon_core::{Context, Query};
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 
 use crate::convert::{ObjTuple, spec_of, str_field};
 use crate::errors::{PyFoonErr, enter};
@@ -18,7 +20,7 @@ use crate::planner::PyPlanner;
 type ProducerTuple = (u32, Vec<(u32, &'static str, bool)>);
 
 /// (status, rank, best plan, buyable, shopping, producers, cycle, cycle units,
-/// unblock [(object, alone)], text).
+/// unblock [(object, alone)], text, the explanation for its writers).
 type ExplainTuple = (
     &'static str,
     Option<u32>,
@@ -30,7 +32,45 @@ type ExplainTuple = (
     Vec<u32>,
     Vec<(u32, bool)>,
     String,
+    Py<PyExplanation>,
 );
+
+/// One explanation as the core holds it, for its pictures and page
+/// (`foon_core::write::write_explanation`).
+#[pyclass(frozen, module = "foon._foon", name = "Explanation")]
+pub(crate) struct PyExplanation {
+    foon: Arc<foon_core::Foon>,
+    prep: Arc<foon_core::Prepared>,
+    inner: Explain,
+}
+
+#[pymethods]
+impl PyExplanation {
+    /// The blocking part (or, for a goal that is not blocked, its best tree) in `format`:
+    /// dot, svg, png, pdf or html.
+    #[pyo3(signature = (format, *, title = None, max_nodes = None))]
+    fn write<'py>(
+        &self,
+        py: Python<'py>,
+        format: &str,
+        title: Option<String>,
+        max_nodes: Option<usize>,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let fmt: Format = format.parse().map_err(PyFoonErr)?;
+        let mut opts = Options {
+            title,
+            ..Options::default()
+        };
+        if let Some(n) = max_nodes {
+            opts.max_nodes = n;
+        }
+        let (foon, prep, e) = (&*self.foon, &*self.prep, &self.inner);
+        let bytes = enter(py, |_| {
+            write::to_bytes(|out| write::write_explanation(fmt, foon, prep, e, &opts, out))
+        })?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+}
 
 /// Explains `goal` (an object id) with the planner's kitchen; `method` and `count` name the
 /// objective of the best tree.
@@ -55,6 +95,14 @@ pub(crate) fn explain(
         let text = e.text(&ctx);
         Ok((e, text))
     })?;
+    let native = Py::new(
+        py,
+        PyExplanation {
+            foon: Arc::clone(&planner.foon),
+            prep: Arc::clone(&planner.prep),
+            inner: e.clone(),
+        },
+    )?;
     let plan = e
         .plan
         .map(|plan| Py::new(py, PyPlan { plan }))
@@ -81,6 +129,7 @@ pub(crate) fn explain(
         e.cycle_units,
         e.unblock.iter().map(|u| (u.object, u.alone)).collect(),
         text,
+        native,
     ))
 }
 

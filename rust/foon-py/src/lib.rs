@@ -25,7 +25,7 @@ mod writers;
 #[pyo3::pymodule]
 mod _foon {
     #[pymodule_export]
-    use super::explain::{PyFindIndex, explain, goal_at_level};
+    use super::explain::{PyExplanation, PyFindIndex, explain, goal_at_level};
     #[pymodule_export]
     use super::foon::PyFoon;
     #[pymodule_export]
@@ -56,7 +56,7 @@ mod _foon {
     };
 
     #[pymodule_export]
-    use super::split::{load_overrides, parse_overrides, plan_split};
+    use super::split::{PySplit, load_overrides, parse_overrides, plan_split};
     #[pymodule_export]
     use super::synth::{
         synth_goals, synth_kitchen, synth_motions, synth_side, synth_text, synth_write,

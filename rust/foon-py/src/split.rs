@@ -7,7 +7,11 @@ use foon_core::parse::{self, RateOverrides};
 use foon_core::search::split::{Profile, split as core_split};
 use foon_core::{Context, MotionRates};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
+use std::sync::Arc;
+
+use foon_core::search::split::Split;
+use foon_core::write::{self, Format, Options};
 
 use crate::convert::{opt_path_arg, path_arg, rate_arg, rate_pairs_arg, text_bytes};
 use crate::errors::{PyFoonErr, enter};
@@ -90,6 +94,16 @@ pub(crate) fn plan_split<'py>(
         core_split(&ctx, goal, &robot, &human, max_human, fixed_tree)
     })?;
     let d = PyDict::new(py);
+    d.set_item(
+        "native",
+        Py::new(
+            py,
+            PySplit {
+                foon: Arc::clone(&planner.foon),
+                inner: s.clone(),
+            },
+        )?,
+    )?;
     d.set_item("goal", s.goal)?;
     d.set_item("max_human", s.max_human)?;
     d.set_item("solved", s.solved)?;
@@ -126,4 +140,34 @@ pub(crate) fn plan_split<'py>(
     )?;
     d.set_item("expanded", s.expanded)?;
     Ok(d)
+}
+
+/// One split as the core holds it, for its page (`foon_core::write::write_split`).
+#[pyclass(frozen, module = "foon._foon", name = "Split")]
+pub(crate) struct PySplit {
+    foon: Arc<foon_core::Foon>,
+    inner: Split,
+}
+
+#[pymethods]
+impl PySplit {
+    /// The split in `format` (html: the front as a chart, each point's steps).
+    #[pyo3(signature = (format, *, title = None))]
+    fn write<'py>(
+        &self,
+        py: Python<'py>,
+        format: &str,
+        title: Option<String>,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let fmt: Format = format.parse().map_err(PyFoonErr)?;
+        let opts = Options {
+            title,
+            ..Options::default()
+        };
+        let (foon, s) = (&*self.foon, &self.inner);
+        let bytes = enter(py, |_| {
+            write::to_bytes(|out| write::write_split(fmt, foon, s, &opts, out))
+        })?;
+        Ok(PyBytes::new(py, &bytes))
+    }
 }

@@ -40,16 +40,16 @@ use super::{FoonDoc, Format, Options, TreeDoc, TreeFormat, put, render};
 use crate::error::{Error, Result};
 use crate::index::Foon;
 
-const RED: &str = "#e74c3c";
-const GREEN: &str = "#8fd18f";
-const PURPLE: &str = "#9b59b6";
+pub(super) const RED: &str = "#e74c3c";
+pub(super) const GREEN: &str = "#8fd18f";
+pub(super) const PURPLE: &str = "#9b59b6";
 /// Object label lines longer than this many characters are wrapped at spaces.
 const WRAP: usize = 24;
 /// Titles (of the picture and of its clusters) are wrapped at this width.
 const WRAP_TITLE: usize = 64;
 
 /// A title, wrapped and quoted.
-fn quote_title(s: &str) -> String {
+pub(super) fn quote_title(s: &str) -> String {
     let mut w = String::new();
     for (i, l) in s.split('\n').enumerate() {
         if i > 0 {
@@ -61,7 +61,7 @@ fn quote_title(s: &str) -> String {
 }
 
 /// A DOT double-quoted string holding `s` as Graphviz shows it.
-fn quote(s: &str) -> String {
+pub(super) fn quote(s: &str) -> String {
     let mut out = String::with_capacity(s.len() + 2);
     out.push('"');
     for c in s.chars() {
@@ -101,7 +101,7 @@ fn wrap_into(line: &str, wrap: usize, out: &mut String) {
 
 /// An object's label: its label, `(states)`, `{ingredients}`, `in [container]`, one line
 /// each, long lines wrapped.
-fn object_label(foon: &Foon, o: u32) -> String {
+pub(super) fn object_label(foon: &Foon, o: u32) -> String {
     let spec = crate::model::ObjectSpec::of_object(foon, o);
     let mut lines = vec![spec.label.clone()];
     if !spec.states.is_empty() {
@@ -293,7 +293,7 @@ const NARROW_TREES: &str = "fewer goals, or one picture per goal with --out DIR"
 
 /// Refuses a rendered picture of more than `opts.max_nodes` nodes (DOT text is not refused);
 /// `narrow` says how to make it smaller.
-fn check_size(
+pub(super) fn check_size(
     format: Format,
     nodes: usize,
     opts: &Options,
@@ -313,7 +313,7 @@ fn check_size(
 }
 
 /// Writes DOT text in `format` (dot itself, or svg/png/pdf through Graphviz).
-fn emit(format: Format, text: &str, out: &mut dyn io::Write) -> Result<()> {
+pub(super) fn emit(format: Format, text: &str, out: &mut dyn io::Write) -> Result<()> {
     if format == Format::Dot {
         put(out, text.as_bytes())
     } else {

@@ -7,7 +7,8 @@
 //! (`g.node.motion`, `g.node.object`) and the chart's bars, and of those the ones with a
 //! non-empty bounding box, and writes the counts into `data-` attributes of each section and
 //! of `<body>` (`data-motions`, `data-motions-shown`, `data-objects`, `data-objects-shown`,
-//! `data-bars`, `data-bars-shown`, `data-rendered`), so that a browser's DOM shows whether
+//! `data-bars`, `data-bars-shown`, `data-points`, `data-points-shown` (the points of a
+//! front plot), `data-rendered`), so that a browser's DOM shows whether
 //! the page rendered.
 
 use std::fmt::Write as _;
@@ -74,12 +75,15 @@ const SCRIPT: &str = "\
   function mark(el, root) {
     var m = count(root, 'svg g.node.motion'), o = count(root, 'svg g.node.object');
     var b = count(root, 'svg.chart rect.bar');
+    var p = count(root, 'svg.chart circle.point');
     el.setAttribute('data-motions', m[0]);
     el.setAttribute('data-motions-shown', m[1]);
     el.setAttribute('data-objects', o[0]);
     el.setAttribute('data-objects-shown', o[1]);
     el.setAttribute('data-bars', b[0]);
     el.setAttribute('data-bars-shown', b[1]);
+    el.setAttribute('data-points', p[0]);
+    el.setAttribute('data-points-shown', p[1]);
   }
   window.addEventListener('load', function () {
     var trees = document.querySelectorAll('section.tree');
@@ -97,7 +101,7 @@ const SCRIPT: &str = "\
 ";
 
 /// The whole page around `body`.
-fn page(title: &str, kind: &str, body: &str) -> String {
+pub(super) fn page(title: &str, kind: &str, body: &str) -> String {
     let mut out = String::new();
     out.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     out.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
@@ -113,7 +117,7 @@ fn page(title: &str, kind: &str, body: &str) -> String {
 
 /// Graphviz's SVG as an element to inline: from `<svg` on (no XML prolog or doctype), with
 /// every `id` prefixed so that several pictures on one page keep their ids apart.
-fn inline_svg(svg: &[u8], prefix: &str) -> String {
+pub(super) fn inline_svg(svg: &[u8], prefix: &str) -> String {
     let text = String::from_utf8_lossy(svg);
     let start = text.find("<svg").unwrap_or(0);
     text[start..]

@@ -1,18 +1,21 @@
 //! Every output format, behind one interface: a [`Format`] (its name, extension and MIME
 //! type) and three writers over [`io::Write`]: [`write_tree`] for a task tree
 //! ([`TreeDoc`]), [`write_foon`] for a whole FOON or a part of it ([`FoonDoc`]) and
-//! [`write_comparison`] for a comparison of methods ([`Comparison`]). The CLI, the Python API
+//! [`write_comparison`] for a comparison of methods ([`Comparison`]); [`write_explanation`]
+//! and [`write_split`] draw what `foon explain` and `foon split` find. The CLI, the Python API
 //! and the tests go through these; nothing else formats output.
 
 mod chart;
 mod compare;
 mod doc;
 mod dot;
+mod explain;
 mod graphml;
 mod html;
 pub mod json;
 pub mod pddl;
 pub mod render;
+mod split;
 mod steps;
 mod text;
 
@@ -21,6 +24,8 @@ use std::str::FromStr;
 
 pub use compare::{CompareRow, Comparison, SummaryRow};
 pub use doc::{FoonDoc, TreeDoc, neighbourhood};
+pub use explain::{blocking_nodes, write_explanation};
+pub use split::write_split;
 pub use text::{explanation_text, foon_text, fu_text, object_line, tree_text};
 
 use crate::error::{Error, Result};
