@@ -15,6 +15,7 @@
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap, HashSet};
 
+use super::optimal::Entry;
 use super::{Context, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
 use crate::index::NONE;
@@ -188,30 +189,6 @@ impl Local {
             opt,
             strict,
         })
-    }
-}
-
-#[derive(PartialEq)]
-struct Entry {
-    cost: f64,
-    obj: u32,
-}
-
-impl Eq for Entry {}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Min-heap on (cost, object id).
-        other
-            .cost
-            .total_cmp(&self.cost)
-            .then(other.obj.cmp(&self.obj))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
     }
 }
 

@@ -19,10 +19,12 @@ use crate::error::Result;
 use crate::index::NONE;
 use crate::prepare::{Objective, Optimum};
 
+/// An entry of the heap of Knuth's algorithm: a min-heap on (cost, object id). The searches
+/// built on it (k best, fewest distinct units, the robot/human split) share it.
 #[derive(PartialEq)]
-struct Entry {
-    cost: f64,
-    obj: u32,
+pub(super) struct Entry {
+    pub(super) cost: f64,
+    pub(super) obj: u32,
 }
 
 impl Eq for Entry {}

@@ -4,10 +4,10 @@
 //! as the admissible bound and the best optimal tree as the first incumbent. The exact
 //! definitions are in `docs/METHODS.md` ("Fewest distinct units").
 
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::time::Instant;
 
+use super::optimal::Entry;
 use super::scratch::IdMap;
 use super::{Context, Explanation, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
@@ -79,29 +79,6 @@ impl SharedOptions {
             ))),
             _ => Ok(()),
         }
-    }
-}
-
-#[derive(PartialEq)]
-struct Entry {
-    cost: f64,
-    obj: u32,
-}
-
-impl Eq for Entry {}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .cost
-            .total_cmp(&self.cost)
-            .then(other.obj.cmp(&self.obj))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
     }
 }
 

@@ -10,11 +10,11 @@
 //! is evaluated when its last needed input is final at level m (the lower levels are final
 //! already), so each level is one run of Knuth's algorithm over the goal's ancestry.
 
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::optimal::Entry;
 use super::scratch::IdMap;
 use super::{Context, Explanation, optimal};
 use crate::error::{Error, Result};
@@ -127,30 +127,6 @@ pub struct Split {
     pub explanation: Option<Explanation>,
     /// (object, budget) labels settled over all levels.
     pub expanded: u64,
-}
-
-#[derive(PartialEq)]
-struct Entry {
-    cost: f64,
-    obj: u32,
-}
-
-impl Eq for Entry {}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Min-heap on (cost, object id), as in `optimal`.
-        other
-            .cost
-            .total_cmp(&self.cost)
-            .then(other.obj.cmp(&self.obj))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
 }
 
 /// `-ln r`, written `0.0 - ln r` so that a rate of 1 weighs +0 (see `optimal::plan`).

@@ -2,6 +2,8 @@
 //! plan of a context for comparisons. Each test file uses part of it.
 #![allow(dead_code)]
 
+pub(crate) mod generate;
+
 use std::path::{Path, PathBuf};
 
 use foon_core::search::{Compat, Context, Count, Method, Plan, Query};
