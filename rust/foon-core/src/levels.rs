@@ -15,7 +15,7 @@ pub fn goal_candidates(ctx: &Context<'_>, goal: &ObjectSpec, level: u8) -> Resul
 
 /// The object that stands for `goal` at `level`: among the objects equal to it at the level,
 /// the first in the kitchen; else the derivable one of lowest rank (ties: lowest id); else
-/// the lowest id. [`Error::GoalNotFound`] when no object is equal to it at the level.
+/// the lowest id. [`Error::GoalNotFound`](crate::Error::GoalNotFound) when no object is equal to it at the level.
 pub fn goal_at_level(ctx: &Context<'_>, goal: &ObjectSpec, level: u8) -> Result<u32> {
     let cands = goal_candidates(ctx, goal, level)?;
     let Some(&first) = cands.first() else {
