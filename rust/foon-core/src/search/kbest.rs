@@ -235,6 +235,22 @@ struct Work {
 }
 
 impl Work {
+    /// Knuth's relaxation: `f` makes `y` at `cost`; it becomes `y`'s choice when cheaper, or
+    /// as cheap with a lower unit index (pushed on the heap only when cheaper).
+    fn offer(&mut self, y: u32, f: u32, cost: f64) {
+        let yi = y as usize;
+        let (old_cost, old_choice) = (self.cost[yi], self.choice[yi]);
+        #[allow(clippy::float_cmp)]
+        let better = cost < old_cost || (cost == old_cost && f < old_choice);
+        if better {
+            if cost < old_cost {
+                self.heap.push(Entry { cost, obj: y });
+            }
+            self.cost[yi] = cost;
+            self.choice[yi] = f;
+        }
+    }
+
     fn new(g: &Local) -> Self {
         Self {
             cost: vec![f64::INFINITY; g.objs.len()],
@@ -295,16 +311,7 @@ impl Local {
                 if work.done[yi] || !allowed(work, y, f) {
                     continue;
                 }
-                let (old_cost, old_choice) = (work.cost[yi], work.choice[yi]);
-                #[allow(clippy::float_cmp)]
-                let better = cost < old_cost || (cost == old_cost && f < old_choice);
-                if better {
-                    if cost < old_cost {
-                        work.heap.push(Entry { cost, obj: y });
-                    }
-                    work.cost[yi] = cost;
-                    work.choice[yi] = f;
-                }
+                work.offer(y, f, cost);
             }
         };
         for f in 0..self.fus.len() as u32 {
@@ -490,16 +497,7 @@ impl Local {
                 if work.stamp[yi] != e || work.done[yi] || !allowed(work, y, f) {
                     continue;
                 }
-                let (old_cost, old_choice) = (work.cost[yi], work.choice[yi]);
-                #[allow(clippy::float_cmp)]
-                let better = cost < old_cost || (cost == old_cost && f < old_choice);
-                if better {
-                    if cost < old_cost {
-                        work.heap.push(Entry { cost, obj: y });
-                    }
-                    work.cost[yi] = cost;
-                    work.choice[yi] = f;
-                }
+                work.offer(y, f, cost);
             }
             !cost.is_finite() || cost > top
         };
