@@ -273,7 +273,36 @@ impl Work {
 impl Local {
     /// Knuth's algorithm under `c` with weights `w`: the best tree, or `None` when the
     /// subspace is empty (or every tree in it costs +infinity).
-    fn solve(&self, w: &[f64], c: &Constraints, work: &mut Work) -> Option<Solved> {
+    fn solve(
+        &self,
+        w: &[f64],
+        c: &Constraints,
+        work: &mut Work,
+        scratch: &mut ReadScratch,
+    ) -> Option<Solved> {
+        self.knuth(w, c, work, false);
+        let g = self.goal as usize;
+        if !work.done[g] || !work.cost[g].is_finite() {
+            return None;
+        }
+        let (preorder, units) = self.read(&|o| work.choice[o as usize], scratch);
+        Some(Solved {
+            cost: work.cost[g],
+            preorder,
+            units,
+        })
+    }
+
+    /// Every object's cost over the whole ancestry under the weights `w` (no constraint; +inf
+    /// for an object with no tree): a lower bound on its cost in every subspace.
+    fn costs(&self, w: &[f64], work: &mut Work) -> Vec<f64> {
+        self.knuth(w, &Constraints::default(), work, true);
+        work.cost.clone()
+    }
+
+    /// Knuth's algorithm under `c` with weights `w`, stopped when the goal is final unless
+    /// `to_end`; the costs, choices and final flags are left in `work`.
+    fn knuth(&self, w: &[f64], c: &Constraints, work: &mut Work, to_end: bool) {
         let n = self.objs.len();
         work.cost.fill(f64::INFINITY);
         work.choice.fill(NONE);
@@ -325,7 +354,7 @@ impl Local {
                 continue;
             }
             work.done[oi] = true;
-            if o == self.goal {
+            if o == self.goal && !to_end {
                 break;
             }
             for &f in &self.needed_by[oi] {
@@ -342,16 +371,6 @@ impl Local {
         for &(o, _) in &c.banned {
             work.banned[o as usize] = false;
         }
-        let g = self.goal as usize;
-        if !work.done[g] || !work.cost[g].is_finite() {
-            return None;
-        }
-        let (preorder, units) = self.read(&|o| work.choice[o as usize]);
-        Some(Solved {
-            cost: work.cost[g],
-            preorder,
-            units,
-        })
     }
 
     /// The best tree of a subspace from the kitchen's optimum: read from it for the whole
@@ -362,7 +381,13 @@ impl Local {
     /// than each of its inputs (`strict`, checked again on each unit fired): Knuth then
     /// finalises objects in (cost, id) order, so every unit fires before the same objects as
     /// in the full run, and the choices (ties included) are the same.
-    fn solve_seeded(&self, w: &[f64], c: &Constraints, work: &mut Work) -> Seeded {
+    fn solve_seeded(
+        &self,
+        w: &[f64],
+        c: &Constraints,
+        work: &mut Work,
+        scratch: &mut ReadScratch,
+    ) -> Seeded {
         let Some((ocost, ochoice)) = self.opt.as_ref() else {
             return Seeded::Full;
         };
@@ -371,7 +396,7 @@ impl Local {
             if !ocost[g].is_finite() {
                 return Seeded::Empty;
             }
-            let (preorder, units) = self.read(&|o| ochoice[o as usize]);
+            let (preorder, units) = self.read(&|o| ochoice[o as usize], scratch);
             return Seeded::Tree(Solved {
                 cost: ocost[g],
                 preorder,
@@ -420,13 +445,16 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return Seeded::Empty;
         }
-        let (preorder, units) = self.read(&|o| {
-            if work.stamp[o as usize] == e {
-                work.choice[o as usize]
-            } else {
-                ochoice[o as usize]
-            }
-        });
+        let (preorder, units) = self.read(
+            &|o| {
+                if work.stamp[o as usize] == e {
+                    work.choice[o as usize]
+                } else {
+                    ochoice[o as usize]
+                }
+            },
+            scratch,
+        );
         Seeded::Tree(Solved {
             cost: work.cost[g],
             preorder,
@@ -541,34 +569,43 @@ impl Local {
 
     /// The tree of the choices from the goal: (pre-order objects with their choices, units in
     /// depth-first post-order), as `tree::emit` reads them.
-    fn read(&self, choice: &dyn Fn(u32) -> u32) -> (Vec<(u32, u32)>, Vec<u32>) {
-        let mut seen = vec![false; self.objs.len()];
-        let mut emitted = vec![false; self.fus.len()];
+    fn read(
+        &self,
+        choice: &dyn Fn(u32) -> u32,
+        scratch: &mut ReadScratch,
+    ) -> (Vec<(u32, u32)>, Vec<u32>) {
+        let e = scratch.next_epoch(self);
+        let ReadScratch {
+            seen,
+            emitted,
+            stack,
+            ..
+        } = scratch;
         let mut pre = Vec::new();
         let mut units = Vec::new();
-        let mut stack: Vec<(u32, usize)> = Vec::new();
-        let mut visit = |o: u32, stack: &mut Vec<(u32, usize)>, emitted: &[bool]| {
-            if self.leaf[o as usize] || seen[o as usize] {
+        stack.clear();
+        let mut visit = |o: u32, stack: &mut Vec<(u32, usize)>, emitted: &[u32]| {
+            if self.leaf[o as usize] || seen[o as usize] == e {
                 return;
             }
-            seen[o as usize] = true;
+            seen[o as usize] = e;
             let f = choice(o);
             pre.push((o, f));
-            if !emitted[f as usize] {
+            if emitted[f as usize] != e {
                 stack.push((f, 0));
             }
         };
-        visit(self.goal, &mut stack, &emitted);
+        visit(self.goal, stack, emitted);
         while let Some(&mut (f, ref mut i)) = stack.last_mut() {
             let ins = &self.needed[f as usize];
             if *i < ins.len() {
                 let x = ins[*i];
                 *i += 1;
-                visit(x, &mut stack, &emitted);
+                visit(x, stack, emitted);
             } else {
                 stack.pop();
-                if !emitted[f as usize] {
-                    emitted[f as usize] = true;
+                if emitted[f as usize] != e {
+                    emitted[f as usize] = e;
                     units.push(self.fus[f as usize]);
                 }
             }
@@ -614,16 +651,86 @@ impl Local {
     }
 }
 
+/// Stamped marks of `Local::read` (objects seen, units emitted) and its stack, kept between
+/// reads: nothing the size of the ancestry is allocated per subspace.
+struct ReadScratch {
+    epoch: u32,
+    seen: Vec<u32>,
+    emitted: Vec<u32>,
+    stack: Vec<(u32, usize)>,
+}
+
+impl ReadScratch {
+    fn new(g: &Local) -> Self {
+        Self {
+            epoch: 0,
+            seen: vec![0; g.objs.len()],
+            emitted: vec![0; g.fus.len()],
+            stack: Vec::new(),
+        }
+    }
+
+    fn next_epoch(&mut self, g: &Local) -> u32 {
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.seen.clear();
+            self.seen.resize(g.objs.len(), 0);
+            self.emitted.clear();
+            self.emitted.resize(g.fus.len(), 0);
+            self.epoch = 1;
+        }
+        self.epoch
+    }
+}
+
+/// Scratch of `Partition::children`: a listed tree's objects (their pre-order position,
+/// their cost in the tree, their post-order position, the tree objects whose units need them)
+/// and the values recomputed for one child.
+#[derive(Default)]
+struct Bounds {
+    epoch: u32,
+    /// Per local object: the epoch of the tree it is in, its pre-order position, and whether
+    /// the subspace fixes it.
+    stamp: Vec<u32>,
+    pos: Vec<u32>,
+    fixed: Vec<u32>,
+    /// Per pre-order position: cost in the tree, post-order position, DFS state.
+    val: Vec<f64>,
+    post: Vec<u32>,
+    state: Vec<u8>,
+    /// The tree objects whose units need each one (CSR over pre-order positions).
+    start: Vec<u32>,
+    users: Vec<u32>,
+    /// One child: its recomputed values (stamped by `child`), the positions to recompute.
+    child: u32,
+    dirty: Vec<u32>,
+    nval: Vec<f64>,
+    list: Vec<u32>,
+    stack: Vec<(u32, usize)>,
+}
+
 enum Node {
-    Open(Constraints),
-    Done(Constraints, Solved),
+    /// The subspace `at` of the listed subspace `parent` (an index into `Partition::parents`):
+    /// its pre-order objects before `at` fixed to their choices, the choice at `at` banned.
+    Open {
+        parent: u32,
+        at: u32,
+    },
+    Done(Box<(Constraints, Solved)>),
+}
+
+/// A listed subspace, kept while its children may still be solved.
+struct Parent {
+    c: Constraints,
+    preorder: Vec<(u32, u32)>,
 }
 
 struct Item {
+    /// The best tree's cost once solved; before that a lower bound on it.
     key: f64,
-    /// 0 for a solved subspace, 1 for one to solve: on equal keys a solved tree comes first.
-    rank: u8,
-    seq: u64,
+    /// The subspace's place in the partition: (listing number of the subspace it was cut
+    /// from, its position in that tree's pre-order); (0, 0) for the whole space.
+    ord: (u64, u32),
     node: Node,
 }
 
@@ -638,8 +745,7 @@ impl Ord for Item {
         other
             .key
             .total_cmp(&self.key)
-            .then(other.rank.cmp(&self.rank))
-            .then(other.seq.cmp(&self.seq))
+            .then(other.ord.cmp(&self.ord))
     }
 }
 impl PartialOrd for Item {
@@ -652,10 +758,16 @@ impl PartialOrd for Item {
 /// units once.
 struct Partition {
     w: Vec<f64>,
+    /// Every object's cost over the whole ancestry under `w`: a lower bound in every subspace.
+    lb: Vec<f64>,
     heap: BinaryHeap<Item>,
-    seq: u64,
+    /// Subspaces listed (popped solved) so far, and those whose children may be in the heap.
+    popped: u64,
+    parents: Vec<Parent>,
     listed: HashSet<Vec<u32>>,
     work: Work,
+    scratch: ReadScratch,
+    bounds: Bounds,
     /// Subspaces solved so far.
     solved: u64,
     /// `w` is the plain weights and the kitchen's optimum is known: `solve_seeded` applies.
@@ -664,65 +776,291 @@ struct Partition {
 
 impl Partition {
     fn new(g: &Local, w: Vec<f64>, seeded: bool) -> Self {
+        let seeded = seeded && g.opt.is_some();
+        let mut work = Work::new(g);
+        let lb = match &g.opt {
+            Some((cost, _)) if seeded => cost.clone(),
+            _ => g.costs(&w, &mut work),
+        };
         let mut p = Self {
             w,
+            lb,
             heap: BinaryHeap::new(),
-            seq: 0,
+            popped: 0,
+            parents: Vec::new(),
             listed: HashSet::new(),
-            work: Work::new(g),
+            work,
+            scratch: ReadScratch::new(g),
+            bounds: Bounds::default(),
             solved: 0,
-            seeded: seeded && g.opt.is_some(),
+            seeded,
         };
-        p.push(f64::NEG_INFINITY, 1, Node::Open(Constraints::default()));
+        p.heap.push(Item {
+            key: f64::NEG_INFINITY,
+            ord: (0, 0),
+            node: Node::Open {
+                parent: u32::MAX,
+                at: 0,
+            },
+        });
         p
     }
 
-    fn push(&mut self, key: f64, rank: u8, node: Node) {
-        self.seq += 1;
-        self.heap.push(Item {
-            key,
-            rank,
-            seq: self.seq,
-            node,
-        });
+    /// The constraints of an open subspace, from the subspace it was cut from.
+    fn constraints(&self, parent: u32, at: u32) -> Constraints {
+        let Some(pa) = self.parents.get(parent as usize) else {
+            return Constraints::default();
+        };
+        let mut fixed = pa.c.fixed.clone();
+        for &(o, f) in &pa.preorder[..at as usize] {
+            if !pa.c.fixed.iter().any(|&(x, _)| x == o) {
+                fixed.push((o, f));
+            }
+        }
+        let mut banned = pa.c.banned.clone();
+        banned.push(pa.preorder[at as usize]);
+        Constraints { fixed, banned }
+    }
+
+    /// Pushes the subspaces that partition the rest of a listed subspace (constraints `c`, best
+    /// tree `s`, listing number `n`, kept as `parent`), each keyed by a lower bound on its best
+    /// tree's cost; a subspace whose bound is +infinity has no tree and is left out.
+    ///
+    /// The child at `o_i` keeps `o_1 .. o_(i-1)` fixed, so its best tree costs at least the
+    /// tree's cost read with `o_i`'s value raised to the cheapest other allowed producer of
+    /// `o_i` (its inputs at their cost in the tree, or over the whole ancestry) and each fixed
+    /// object recomputed from its unit: every other object costs, in any subspace of this one,
+    /// at least its cost in the tree (the tree is this subspace's optimum, and a constraint
+    /// only raises optima), and sums are monotone (floating point included).
+    fn children(&mut self, g: &Local, c: &Constraints, s: &Solved, n: u64, parent: u32) {
+        let b = &mut self.bounds;
+        let (w, lb) = (&self.w, &self.lb);
+        let no = g.objs.len();
+        if b.stamp.len() != no {
+            b.stamp = vec![0; no];
+            b.pos = vec![0; no];
+            b.fixed = vec![0; no];
+            b.epoch = 0;
+        }
+        b.epoch = b.epoch.wrapping_add(1);
+        if b.epoch == 0 {
+            b.stamp.fill(0);
+            b.fixed.fill(0);
+            b.epoch = 1;
+        }
+        let e = b.epoch;
+        let m = s.preorder.len();
+        for (j, &(o, _)) in s.preorder.iter().enumerate() {
+            b.stamp[o as usize] = e;
+            b.pos[o as usize] = j as u32;
+        }
+        for &(o, _) in &c.fixed {
+            b.fixed[o as usize] = e;
+        }
+        // Each object's cost in the tree and its post-order position (the tree is acyclic).
+        b.val.clear();
+        b.val.resize(m, f64::NAN);
+        b.post.clear();
+        b.post.resize(m, 0);
+        b.state.clear();
+        b.state.resize(m, 0);
+        b.stack.clear();
+        let mut next_post = 0u32;
+        if m > 0 {
+            b.stack.push((0, 0));
+            b.state[0] = 1;
+        }
+        while let Some(&mut (j, ref mut i)) = b.stack.last_mut() {
+            let f = s.preorder[j as usize].1 as usize;
+            let ins = &g.needed[f];
+            if *i < ins.len() {
+                let x = ins[*i] as usize;
+                *i += 1;
+                if !g.leaf[x] {
+                    let xj = b.pos[x];
+                    if b.state[xj as usize] == 0 {
+                        b.state[xj as usize] = 1;
+                        b.stack.push((xj, 0));
+                    }
+                }
+            } else {
+                let mut v = w[f];
+                for &x in ins {
+                    v += if g.leaf[x as usize] {
+                        g.leaf_cost
+                    } else {
+                        b.val[b.pos[x as usize] as usize]
+                    };
+                }
+                b.val[j as usize] = v;
+                b.post[j as usize] = next_post;
+                next_post += 1;
+                b.state[j as usize] = 2;
+                b.stack.pop();
+            }
+        }
+        debug_assert!(m == 0 || b.val[0].to_bits() == s.cost.to_bits());
+        // The tree objects whose units need each one.
+        b.start.clear();
+        b.start.resize(m + 1, 0);
+        for &(_, f) in &s.preorder {
+            for &x in &g.needed[f as usize] {
+                if !g.leaf[x as usize] {
+                    b.start[b.pos[x as usize] as usize + 1] += 1;
+                }
+            }
+        }
+        for j in 0..m {
+            b.start[j + 1] += b.start[j];
+        }
+        b.users.clear();
+        b.users.resize(b.start[m] as usize, 0);
+        b.list.clear();
+        b.list.extend_from_slice(&b.start[..m]);
+        for (q, &(_, f)) in s.preorder.iter().enumerate() {
+            for &x in &g.needed[f as usize] {
+                if !g.leaf[x as usize] {
+                    let xj = b.pos[x as usize] as usize;
+                    b.users[b.list[xj] as usize] = q as u32;
+                    b.list[xj] += 1;
+                }
+            }
+        }
+        b.dirty.clear();
+        b.dirty.resize(m, 0);
+        b.nval.clear();
+        b.nval.resize(m, 0.0);
+        // A lower bound on an input's cost in every child.
+        let low = |b: &Bounds, x: u32| -> f64 {
+            let xi = x as usize;
+            if g.leaf[xi] {
+                g.leaf_cost
+            } else if b.stamp[xi] == e {
+                b.val[b.pos[xi] as usize]
+            } else {
+                lb[xi]
+            }
+        };
+        for (i, &(o, ci)) in s.preorder.iter().enumerate() {
+            if b.fixed[o as usize] == e {
+                continue;
+            }
+            let mut alt = f64::INFINITY;
+            for &f in &g.made_by[o as usize] {
+                if f == ci || c.banned.contains(&(o, f)) {
+                    continue;
+                }
+                let mut v = w[f as usize];
+                for &x in &g.needed[f as usize] {
+                    v += low(b, x);
+                }
+                if v < alt {
+                    alt = v;
+                }
+            }
+            let v = alt.max(b.val[i]);
+            if !v.is_finite() {
+                continue;
+            }
+            #[allow(clippy::float_cmp)]
+            let key = if v == b.val[i] {
+                s.cost
+            } else if i == 0 {
+                v
+            } else {
+                // Recompute the fixed objects (pre-order before i) whose units reach o_i.
+                b.child = b.child.wrapping_add(1);
+                if b.child == 0 {
+                    b.dirty.fill(0);
+                    b.child = 1;
+                }
+                let d = b.child;
+                b.dirty[i] = d;
+                b.nval[i] = v;
+                b.list.clear();
+                b.list.push(i as u32);
+                let mut k = 0;
+                while let Some(&q) = b.list.get(k) {
+                    k += 1;
+                    for u in b.start[q as usize]..b.start[q as usize + 1] {
+                        let r = b.users[u as usize];
+                        if (r as usize) < i && b.dirty[r as usize] != d {
+                            b.dirty[r as usize] = d;
+                            b.list.push(r);
+                        }
+                    }
+                }
+                let mut list = std::mem::take(&mut b.list);
+                list.swap_remove(0);
+                list.sort_unstable_by_key(|&q| b.post[q as usize]);
+                for &q in &list {
+                    let f = s.preorder[q as usize].1 as usize;
+                    let mut v = w[f];
+                    for &x in &g.needed[f] {
+                        let xi = x as usize;
+                        v += if g.leaf[xi] {
+                            g.leaf_cost
+                        } else {
+                            let xj = b.pos[xi] as usize;
+                            if b.dirty[xj] == d {
+                                b.nval[xj]
+                            } else {
+                                b.val[xj]
+                            }
+                        };
+                    }
+                    b.nval[q as usize] = v;
+                }
+                b.list = list;
+                b.nval[0]
+            };
+            self.heap.push(Item {
+                key: key.max(s.cost),
+                ord: (n, i as u32),
+                node: Node::Open {
+                    parent,
+                    at: i as u32,
+                },
+            });
+        }
     }
 
     /// The next tree (cost, pre-order choices, units), or `None` when every tree was listed.
     fn next(&mut self, g: &Local, ctx: &Context<'_>) -> Result<Option<Solved>> {
         while let Some(item) = self.heap.pop() {
             match item.node {
-                Node::Open(c) => {
+                Node::Open { parent, at } => {
                     self.solved += 1;
                     ctx.check_stop()?;
+                    let c = self.constraints(parent, at);
                     let s = if self.seeded {
-                        g.solve_seeded(&self.w, &c, &mut self.work)
+                        g.solve_seeded(&self.w, &c, &mut self.work, &mut self.scratch)
                     } else {
                         Seeded::Full
                     };
                     let s = match s {
                         Seeded::Tree(s) => Some(s),
                         Seeded::Empty => None,
-                        Seeded::Full => g.solve(&self.w, &c, &mut self.work),
+                        Seeded::Full => g.solve(&self.w, &c, &mut self.work, &mut self.scratch),
                     };
                     if let Some(s) = s {
-                        self.push(s.cost, 0, Node::Done(c, s));
+                        self.heap.push(Item {
+                            key: s.cost,
+                            ord: item.ord,
+                            node: Node::Done(Box::new((c, s))),
+                        });
                     }
                 }
-                Node::Done(c, s) => {
+                Node::Done(done) => {
+                    let (c, s) = *done;
                     // The rest of this subspace: agree on the first i - 1 objects, differ at i.
-                    let mut fixed = c.fixed.clone();
-                    for &(o, f) in &s.preorder {
-                        if !c.fixed.iter().any(|&(x, _)| x == o) {
-                            let mut banned = c.banned.clone();
-                            banned.push((o, f));
-                            let child = Constraints {
-                                fixed: fixed.clone(),
-                                banned,
-                            };
-                            self.push(s.cost, 1, Node::Open(child));
-                            fixed.push((o, f));
-                        }
-                    }
+                    self.popped += 1;
+                    let parent = self.parents.len() as u32;
+                    self.children(g, &c, &s, self.popped, parent);
+                    self.parents.push(Parent {
+                        c,
+                        preorder: s.preorder.clone(),
+                    });
                     let mut set = s.units.clone();
                     set.sort_unstable();
                     if self.listed.insert(set) {
