@@ -13,7 +13,7 @@
 //! are skipped, so every set comes once, at its lowest cost.
 
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap, HashSet};
+use std::collections::{BinaryHeap, HashSet};
 
 use super::optimal::Entry;
 use super::{Context, Method, Plan, Query, optimal, tree};
@@ -89,31 +89,32 @@ impl Local {
     pub(super) fn new(ctx: &Context<'_>, goal: u32, method: Method) -> Result<Self> {
         let foon = ctx.foon;
         let ranks = ctx.ranks();
+        // Global id -> local id (NONE: not in the ancestry); 0 marks "seen" until the ids are
+        // sorted.
+        let mut at = ctx.id_map(foon.object_count(), NONE);
+        let mut seen_f = ctx.id_map(foon.fu_count(), false);
         let mut objs = vec![goal];
-        let mut seen_o = HashSet::from([goal]);
+        at.set(goal, 0);
         let mut fus = Vec::new();
-        let mut seen_f = HashSet::new();
         let mut next = 0;
         while let Some(&o) = objs.get(next) {
             next += 1;
             if next % 4096 == 0 {
                 ctx.check_stop()?;
             }
-            if ctx.in_kitchen(o) {
+            if ctx.in_kitchen(o) || ranks.rank(o).is_none() {
                 continue;
             }
             for &f in foon.producers(o) {
                 // A unit with an input that cannot be made is in no tree.
-                if !ranks
-                    .rank(o)
-                    .is_some_and(|_| ctx.needed(f).iter().all(|&x| ranks.rank(x).is_some()))
-                    || !seen_f.insert(f)
-                {
+                if seen_f.get(f) || !ctx.needed(f).iter().all(|&x| ranks.rank(x).is_some()) {
                     continue;
                 }
+                seen_f.set(f, true);
                 fus.push(f);
                 for &x in ctx.needed(f) {
-                    if seen_o.insert(x) {
+                    if at.get(x) == NONE {
+                        at.set(x, 0);
                         objs.push(x);
                     }
                 }
@@ -121,17 +122,15 @@ impl Local {
         }
         objs.sort_unstable();
         fus.sort_unstable();
-        let at: HashMap<u32, u32> = objs
-            .iter()
-            .enumerate()
-            .map(|(i, &o)| (o, i as u32))
-            .collect();
+        for (i, &o) in objs.iter().enumerate() {
+            at.set(o, i as u32);
+        }
         let leaf: Vec<bool> = objs.iter().map(|&o| ctx.in_kitchen(o)).collect();
         let mut needed_by = vec![Vec::new(); objs.len()];
         let mut needed = Vec::with_capacity(fus.len());
         let mut outs = Vec::with_capacity(fus.len());
         for (i, &f) in fus.iter().enumerate() {
-            let ins: Vec<u32> = ctx.needed(f).iter().map(|x| at[x]).collect();
+            let ins: Vec<u32> = ctx.needed(f).iter().map(|&x| at.get(x)).collect();
             for &x in &ins {
                 needed_by[x as usize].push(i as u32);
             }
@@ -140,8 +139,8 @@ impl Local {
                 .outputs(f)
                 .iter()
                 .filter(|&&y| !foon.is_bare(y))
-                .filter_map(|y| at.get(y).copied())
-                .filter(|&y| !leaf[y as usize])
+                .map(|&y| at.get(y))
+                .filter(|&y| y != NONE && !leaf[y as usize])
                 .collect();
             os.dedup();
             outs.push(os);
@@ -176,7 +175,7 @@ impl Local {
                 })
         });
         Ok(Self {
-            goal: at[&goal],
+            goal: at.get(goal),
             objs,
             leaf,
             fus,
@@ -374,8 +373,9 @@ impl Local {
     }
 
     /// The best tree of a subspace from the kitchen's optimum: read from it for the whole
-    /// space; otherwise Knuth's algorithm over the *affected* objects only (the constrained
-    /// ones and every object one of them is in the ancestry of), seeded with the optimum's
+    /// space; otherwise Knuth's algorithm over the *affected* objects only (the banned ones,
+    /// those fixed to another unit than the optimum's choice, and every object one of them is
+    /// in the ancestry of), seeded with the optimum's
     /// final costs of the unaffected inputs of their units: the others keep the optimum's
     /// cost and choice (their ancestry has no constraint). Exact when every unit costs more
     /// than each of its inputs (`strict`, checked again on each unit fired): Knuth then
@@ -418,7 +418,14 @@ impl Local {
         let mut units = std::mem::take(&mut work.units);
         list.clear();
         units.clear();
-        for &(o, _) in c.fixed.iter().chain(&c.banned) {
+        // An object fixed to its optimum's choice keeps its cost and choice unless something
+        // in its ancestry is affected (then it is reached from there).
+        let seeds = c
+            .fixed
+            .iter()
+            .filter(|&&(o, f)| ochoice[o as usize] != f)
+            .chain(&c.banned);
+        for &(o, _) in seeds {
             if work.stamp[o as usize] != e {
                 work.stamp[o as usize] = e;
                 list.push(o);
@@ -483,26 +490,33 @@ impl Local {
             for &f in &self.made_by[yi] {
                 if work.ustamp[f as usize] != e {
                     work.ustamp[f as usize] = e;
-                    work.left[f as usize] = self.needed[f as usize].len() as u32;
                     units.push(f);
                 }
             }
         }
+        // An unaffected input is final at the optimum's cost: it is not put on the heap, and
+        // a unit waits only for its affected inputs (it never runs with an input of infinite
+        // cost, as in the full run). A unit may so run before some object is final that it
+        // would run after in the full run; it then offers it more than that object's cost
+        // (every unit costs more than each of its inputs), which changes nothing.
         for &f in units.iter() {
+            let mut left = 0;
             for &x in &self.needed[f as usize] {
                 let xi = x as usize;
-                if work.stamp[xi] != e && work.fstamp[xi] != e {
+                if work.stamp[xi] == e {
+                    left += 1;
+                    continue;
+                }
+                if work.fstamp[xi] != e {
                     work.fstamp[xi] = e;
-                    work.done[xi] = false;
+                    work.done[xi] = true;
                     work.cost[xi] = ocost[xi];
-                    if ocost[xi].is_finite() {
-                        work.heap.push(Entry {
-                            cost: ocost[xi],
-                            obj: x,
-                        });
-                    }
+                }
+                if !ocost[xi].is_finite() {
+                    left += 1;
                 }
             }
+            work.left[f as usize] = left;
         }
         for &(o, f) in &c.fixed {
             work.fixed[o as usize] = f;
@@ -531,7 +545,7 @@ impl Local {
         };
         let mut ok = true;
         for &f in units.iter() {
-            if self.needed[f as usize].is_empty() {
+            if work.left[f as usize] == 0 {
                 ok &= fire(f, work);
             }
         }
