@@ -363,6 +363,20 @@ def _methods(text: str | None) -> list[str]:
     return methods
 
 
+def _split_columns(rows: list[Any]) -> dict[int, tuple[float | None, float | None]]:
+    """Each goal's (split success, fixed-tree success) from the ``split M=..`` and
+    ``fixed-tree M=..`` rows of ``compare_rows`` (figure rows: method, goal id, solved,
+    units, success, expanded, seconds), for the split columns of every row of that goal."""
+    split: dict[int, float | None] = {}
+    fixed: dict[int, float | None] = {}
+    for r in rows:
+        if len(r) != 7:
+            continue  # a goal that was not found
+        name, goal, solved, _units, success = r[:5]
+        (split if name.startswith("split") else fixed)[goal] = success if solved else None
+    return {g: (split.get(g), fixed.get(g)) for g in split.keys() | fixed.keys()}
+
+
 def cmd_compare(args: argparse.Namespace) -> int:
     methods = _methods(args.methods)
     f, kitchen, motions, utensils, ex = inputs(args)
@@ -377,7 +391,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
     for nf in lost:
         error(summary(nf))
     ids = [r for r in resolved if isinstance(r, int)]
-    planner = f.planner(kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate)
+    level = getattr(args, "level", 3)
+    planner = f.planner(
+        kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate, level=level
+    )
     rows: list[Any] = []
     skipped: list[tuple[str, str]] = []
     for m in methods:
@@ -400,10 +417,13 @@ def cmd_compare(args: argparse.Namespace) -> int:
                 rows.append((name, str(r.goal), r.message))
             else:
                 rows.append((name, next(trees)._plan))
+    split: tuple[int, dict[int, tuple[float | None, float | None]]] | None = None
     if args.split is not None:
         from foon._cli_split import compare_rows
 
-        rows += compare_rows(planner, resolved, args.split, motions, args.default_rate)
+        extra = compare_rows(planner, resolved, args.split, motions, args.default_rate)
+        rows += extra
+        split = (args.split, _split_columns(extra))
     for m, why in skipped:
         print(
             f"foon: note: {m} skipped: it needs a success rate for every motion "
@@ -412,7 +432,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
         )
     fmt = args.format or ("json" if args.json else "csv" if args.csv else "text")
     emit = _Stdout(fmt)
-    emit(_foon.write_comparison(f._native, rows, fmt))
+    emit(_foon.write_comparison(f._native, rows, fmt, level=planner.level, split=split))
     if not rows:
         error("no method could run")
     return 1 if lost or not rows else 0

@@ -319,6 +319,8 @@ def write_comparison(
     format: str,
     *,
     title: str | None = None,
+    level: int = 3,
+    split: tuple[int, dict[int, tuple[float | None, float | None]]] | None = None,
 ) -> bytes: ...
 def explanation(foon: Foon, plan: Plan) -> str: ...
 def explain(

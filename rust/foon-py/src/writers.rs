@@ -1,6 +1,7 @@
 //! The writers: every output format of a task tree, a FOON or a comparison, through the
 //! core's one interface (`foon_core::write`). Python gets bytes (text formats are UTF-8).
 
+use std::collections::HashMap;
 use std::str::FromStr;
 
 use std::sync::{Mutex, PoisonError};
@@ -244,21 +245,30 @@ type Figures = (String, u32, bool, Option<usize>, Option<f64>, u64, f64);
 /// A comparison: `rows` are (method, plan) for planned goals, (method, goal text, error)
 /// for goals that could not be planned, and [`Figures`] for methods without a plan (the
 /// robot/human split).
+///
+/// `level`: the identity level the planner matched at (a column of every row). `split`:
+/// `(M, {goal id: (split success, fixed-tree success)})` of `foon compare --split M`, the
+/// split columns of every row of those goals.
 #[pyfunction]
-#[pyo3(signature = (foon, rows, format, *, title = None))]
+#[pyo3(signature = (foon, rows, format, *, title = None, level = 3, split = None))]
+#[allow(clippy::type_complexity)]
 pub(crate) fn write_comparison<'py>(
     py: Python<'py>,
     foon: &PyFoon,
     rows: Vec<Bound<'py, PyAny>>,
     format: &str,
     title: Option<String>,
+    level: u8,
+    split: Option<(u32, HashMap<u32, (Option<f64>, Option<f64>)>)>,
 ) -> PyResult<Bound<'py, PyBytes>> {
     let fmt = format_arg(format)?;
     let opts = options(title, None, None);
     let mut out = Vec::with_capacity(rows.len());
+    let mut goals: Vec<Option<u32>> = Vec::with_capacity(rows.len());
     for r in &rows {
         if let Ok((method, plan)) = r.extract::<(String, PyRef<'_, PyPlan>)>() {
             out.push(CompareRow::of_plan(&foon.inner, &method, &plan.plan));
+            goals.push(Some(plan.plan.goal));
         } else if let Ok(fig) = r.extract::<Figures>() {
             let (method, goal, solved, units, success, expanded, seconds) = fig;
             crate::foon::check_object(&foon.inner, goal)?;
@@ -272,11 +282,27 @@ pub(crate) fn write_comparison<'py>(
                 expanded,
                 seconds,
             ));
+            goals.push(Some(goal));
         } else {
             let (method, goal, error): (String, String, String) = r.extract()?;
             out.push(CompareRow::failed(goal, &method, error));
+            goals.push(None);
         }
     }
+    let out = out
+        .into_iter()
+        .zip(&goals)
+        .map(|(row, goal)| {
+            let row = row.at_level(level);
+            match &split {
+                Some((m, by)) => {
+                    let (s, f) = goal.and_then(|g| by.get(&g).copied()).unwrap_or_default();
+                    row.with_split(*m, s, f)
+                }
+                None => row,
+            }
+        })
+        .collect();
     let doc = Comparison::new(out);
     let bytes = enter(py, |_| {
         write::to_bytes(|o| write::write_comparison(fmt, &doc, &opts, o))

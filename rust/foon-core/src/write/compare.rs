@@ -23,6 +23,21 @@ pub struct CompareRow {
     pub seconds: Option<f64>,
     /// Why the goal could not be planned at all (not found in the FOON, ...).
     pub error: Option<String>,
+    /// The identity level the kitchen and the goals were matched at (3: full identity).
+    pub level: u8,
+    /// `optimal-shared`: what `bound` measures (`units` or `success`), the proven bound on
+    /// the tree's figure, whether the search finished and |figure - bound|; `None` for the
+    /// other methods (and for an unsolved goal, all but `objective`).
+    pub objective: Option<&'static str>,
+    pub bound: Option<f64>,
+    pub proven: Option<bool>,
+    pub gap: Option<f64>,
+    /// With `foon compare --split M`: the budget M of human steps, and for the row's goal
+    /// the best success of the exact robot/human split and of the lab's fixed-tree method
+    /// with at most M human steps (`None` when the goal has no tree); `None` without.
+    pub max_human: Option<u32>,
+    pub split_success: Option<f64>,
+    pub fixed_tree_success: Option<f64>,
 }
 
 impl CompareRow {
@@ -41,6 +56,14 @@ impl CompareRow {
             peak_frontier: Some(plan.peak_frontier),
             seconds: Some(plan.seconds),
             error: None,
+            level: 3,
+            objective: plan.objective.map(crate::search::SharedObjective::as_str),
+            bound: plan.bound,
+            proven: plan.proven,
+            gap: plan.gap(),
+            max_human: None,
+            split_success: None,
+            fixed_tree_success: None,
         }
     }
 
@@ -59,22 +82,25 @@ impl CompareRow {
         seconds: f64,
     ) -> Self {
         Self {
-            goal: super::object_line(foon, goal),
-            method: method.to_owned(),
             solved,
             fu_count: fu_count.filter(|_| solved),
-            height: None,
             success: success.filter(|_| solved),
-            leaf_inputs: None,
             expanded: Some(expanded),
-            peak_frontier: None,
             seconds: Some(seconds),
-            error: None,
+            ..Self::blank(super::object_line(foon, goal), method)
         }
     }
 
     /// The row of a goal that could not be planned.
     pub fn failed(goal: String, method: &str, error: String) -> Self {
+        Self {
+            error: Some(error),
+            ..Self::blank(goal, method)
+        }
+    }
+
+    /// A row with no figure (level 3).
+    fn blank(goal: String, method: &str) -> Self {
         Self {
             goal,
             method: method.to_owned(),
@@ -86,8 +112,34 @@ impl CompareRow {
             expanded: None,
             peak_frontier: None,
             seconds: None,
-            error: Some(error),
+            error: None,
+            level: 3,
+            objective: None,
+            bound: None,
+            proven: None,
+            gap: None,
+            max_human: None,
+            split_success: None,
+            fixed_tree_success: None,
         }
+    }
+
+    /// The row at identity level `level`.
+    #[must_use]
+    pub fn at_level(mut self, level: u8) -> Self {
+        self.level = level;
+        self
+    }
+
+    /// The row with its goal's split columns (`foon compare --split M`): the best success of
+    /// the exact split and of the lab's fixed-tree method with at most `max_human` human
+    /// steps.
+    #[must_use]
+    pub fn with_split(mut self, max_human: u32, split: Option<f64>, fixed: Option<f64>) -> Self {
+        self.max_human = Some(max_human);
+        self.split_success = split;
+        self.fixed_tree_success = fixed;
+        self
     }
 }
 
@@ -106,6 +158,14 @@ pub struct SummaryRow {
     pub expanded: Option<f64>,
     pub peak_frontier: Option<f64>,
     pub seconds_total: f64,
+    /// `optimal-shared`: how many goals its search proved optimal and the mean gap over the
+    /// solved ones; `None` for the other methods.
+    pub proven_count: Option<usize>,
+    pub gap: Option<f64>,
+    /// With `--split M`: the mean over the method's goals of their split and fixed-tree
+    /// successes (over the goals that have them).
+    pub split_success: Option<f64>,
+    pub fixed_tree_success: Option<f64>,
 }
 
 /// Rows in the order given (methods, then goals), and a summary per method in order of
@@ -150,6 +210,13 @@ impl Comparison {
                     expanded: mean(planned().map(|r| r.expanded.map(|v| v as f64))),
                     peak_frontier: mean(planned().map(|r| r.peak_frontier.map(|v| v as f64))),
                     seconds_total: planned().filter_map(|r| r.seconds).sum(),
+                    proven_count: rs
+                        .iter()
+                        .any(|r| r.objective.is_some())
+                        .then(|| rs.iter().filter(|r| r.proven == Some(true)).count()),
+                    gap: mean(ok().map(|r| r.gap)),
+                    split_success: mean(rs.iter().map(|r| r.split_success)),
+                    fixed_tree_success: mean(rs.iter().map(|r| r.fixed_tree_success)),
                 }
             })
             .collect();
@@ -181,15 +248,64 @@ pub(super) fn cell_int(v: Option<impl std::fmt::Display>) -> String {
 }
 
 /// The cells of one table row: goal (or summary text), method, units, height, success,
-/// leaves, expanded, peak frontier and the last cell (milliseconds, or `not found`).
+/// leaves, expanded, peak frontier and the last cell (milliseconds, or `not found`), then the
+/// optional columns of [`Extras`].
 pub(super) const TABLE_HEAD: [&str; 9] = [
     "goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms",
 ];
 
+/// The optional column groups of a comparison's tables: the identity `level` (when not 3),
+/// `optimal-shared`'s bound, gap and proven (when it is compared) and the split columns
+/// (with `--split M`).
+#[derive(Clone, Copy)]
+pub(super) struct Extras {
+    level: bool,
+    shared: bool,
+    split: Option<u32>,
+}
+
+impl Comparison {
+    pub(super) fn extras(&self) -> Extras {
+        Extras {
+            level: self.rows.iter().any(|r| r.level != 3),
+            shared: self.rows.iter().any(|r| r.objective.is_some()),
+            split: self.rows.iter().find_map(|r| r.max_human),
+        }
+    }
+}
+
+impl Extras {
+    /// The headers of the optional columns.
+    pub(super) fn head(self) -> Vec<String> {
+        let mut h = Vec::new();
+        if self.level {
+            h.push("level".to_owned());
+        }
+        if self.shared {
+            h.extend(["bound", "gap", "proven"].map(str::to_owned));
+        }
+        if let Some(m) = self.split {
+            h.push(format!("split M={m}"));
+            h.push(format!("fixed-tree M={m}"));
+        }
+        h
+    }
+}
+
+/// `optimal-shared`'s bound or gap in a cell: a success as a percentage, a unit count as a
+/// whole number when it is one.
+fn cell_figure(v: Option<f64>, objective: Option<&str>) -> String {
+    match (v, objective) {
+        (Some(v), Some("success")) => cell_f64(Some(v), Cell::Percent),
+        (Some(v), _) if v.fract() == 0.0 && v.abs() < 1e15 => format!("{v:.0}"),
+        (v, _) => cell_f64(v, Cell::Plain),
+    }
+}
+
 impl CompareRow {
     /// The row's cells under [`TABLE_HEAD`] (the goal cut to 48 characters).
-    pub(super) fn cells(&self) -> [String; 9] {
-        [
+    pub(super) fn cells(&self) -> Vec<String> {
+        vec![
             self.goal.chars().take(48).collect(),
             self.method.clone(),
             cell_int(self.fu_count),
@@ -205,12 +321,34 @@ impl CompareRow {
             },
         ]
     }
+
+    /// The row's cells under [`Extras::head`].
+    pub(super) fn extra_cells(&self, x: Extras) -> Vec<String> {
+        let mut c = Vec::new();
+        if x.level {
+            c.push(self.level.to_string());
+        }
+        if x.shared {
+            c.push(cell_figure(self.bound, self.objective));
+            c.push(cell_figure(self.gap, self.objective));
+            c.push(match self.proven {
+                Some(true) => "yes".to_owned(),
+                Some(false) => "no".to_owned(),
+                None => "-".to_owned(),
+            });
+        }
+        if x.split.is_some() {
+            c.push(cell_f64(self.split_success, Cell::Percent));
+            c.push(cell_f64(self.fixed_tree_success, Cell::Percent));
+        }
+        c
+    }
 }
 
 impl SummaryRow {
     /// The row's cells under [`TABLE_HEAD`].
-    pub(super) fn cells(&self) -> [String; 9] {
-        [
+    pub(super) fn cells(&self) -> Vec<String> {
+        vec![
             format!(
                 "(all: {}/{} solved; means, total ms)",
                 self.solved_count, self.goals
@@ -225,6 +363,28 @@ impl SummaryRow {
             cell_f64(Some(self.seconds_total), Cell::Millis),
         ]
     }
+
+    /// The row's cells under [`Extras::head`]: no level or bound; the mean gap, the proven
+    /// count, the mean split successes.
+    pub(super) fn extra_cells(&self, x: Extras) -> Vec<String> {
+        let mut c = Vec::new();
+        if x.level {
+            c.push("-".to_owned());
+        }
+        if x.shared {
+            c.push("-".to_owned());
+            c.push(cell_f64(self.gap, Cell::Plain));
+            c.push(
+                self.proven_count
+                    .map_or_else(|| "-".to_owned(), |n| format!("{n}/{}", self.solved_count)),
+            );
+        }
+        if x.split.is_some() {
+            c.push(cell_f64(self.split_success, Cell::Percent));
+            c.push(cell_f64(self.fixed_tree_success, Cell::Percent));
+        }
+        c
+    }
 }
 
 /// The comparison as a text table: a header, a rule, a row per (method, goal), a rule and a
@@ -234,20 +394,26 @@ pub(super) fn table_text(doc: &Comparison) -> String {
     if doc.rows.is_empty() {
         return String::new();
     }
-    let head = TABLE_HEAD.map(str::to_owned);
-    let body: Vec<[String; 9]> = doc
+    let x = doc.extras();
+    let mut head: Vec<String> = TABLE_HEAD.map(str::to_owned).to_vec();
+    head.extend(x.head());
+    let body: Vec<Vec<String>> = doc
         .rows
         .iter()
-        .map(CompareRow::cells)
-        .chain(doc.summary.iter().map(SummaryRow::cells))
+        .map(|r| [r.cells(), r.extra_cells(x)].concat())
+        .chain(
+            doc.summary
+                .iter()
+                .map(|s| [s.cells(), s.extra_cells(x)].concat()),
+        )
         .collect();
-    let mut widths = [0usize; 9];
+    let mut widths = vec![0usize; head.len()];
     for row in std::iter::once(&head).chain(&body) {
         for (w, c) in widths.iter_mut().zip(row) {
             *w = (*w).max(c.chars().count());
         }
     }
-    let line = |cells: &[String; 9]| {
+    let line = |cells: &[String]| {
         let mut s = String::new();
         for (i, (c, &w)) in cells.iter().zip(&widths).enumerate() {
             if i > 0 {
@@ -340,11 +506,13 @@ fn py_opt<T: std::fmt::Display>(v: Option<T>) -> String {
 }
 
 /// The comparison as CSV (what Python's `csv.DictWriter` writes, lines ending in CRLF):
-/// the row fields, then `solved_count`, `goals` and `seconds_total`; a row per (method,
+/// the row fields, then `solved_count`, `goals` and `seconds_total`, then `level`,
+/// `objective`, `bound`, `proven`, `gap`, `max_human`, `split_success`,
+/// `fixed_tree_success` and `proven_count`; a row per (method,
 /// goal), then a summary row per method with the goal `(all)`. Absent values are empty,
 /// booleans `True`/`False`, fractions in Python's `repr` form.
 pub(super) fn table_csv(doc: &Comparison) -> String {
-    const HEAD: [&str; 14] = [
+    const HEAD: [&str; 23] = [
         "goal",
         "method",
         "solved",
@@ -359,6 +527,15 @@ pub(super) fn table_csv(doc: &Comparison) -> String {
         "solved_count",
         "goals",
         "seconds_total",
+        "level",
+        "objective",
+        "bound",
+        "proven",
+        "gap",
+        "max_human",
+        "split_success",
+        "fixed_tree_success",
+        "proven_count",
     ];
     let mut out = String::new();
     let mut push = |fields: &[String]| {
@@ -383,6 +560,17 @@ pub(super) fn table_csv(doc: &Comparison) -> String {
             String::new(),
             String::new(),
             String::new(),
+            r.level.to_string(),
+            r.objective.unwrap_or_default().to_owned(),
+            py_opt_f64(r.bound),
+            r.proven
+                .map(|p| if p { "True" } else { "False" }.to_owned())
+                .unwrap_or_default(),
+            py_opt_f64(r.gap),
+            py_opt(r.max_human),
+            py_opt_f64(r.split_success),
+            py_opt_f64(r.fixed_tree_success),
+            String::new(),
         ]);
     }
     for s in &doc.summary {
@@ -401,6 +589,15 @@ pub(super) fn table_csv(doc: &Comparison) -> String {
             s.solved_count.to_string(),
             s.goals.to_string(),
             py_float(s.seconds_total),
+            String::new(),
+            String::new(),
+            String::new(),
+            String::new(),
+            py_opt_f64(s.gap),
+            String::new(),
+            py_opt_f64(s.split_success),
+            py_opt_f64(s.fixed_tree_success),
+            py_opt(s.proven_count),
         ]);
     }
     out

@@ -337,11 +337,14 @@ pub(super) fn write_comparison(
         goals
     );
     body.push_str("<h2>Per method</h2>\n");
+    let x = doc.extras();
+    let extra_head = x.head();
     let summary: Vec<Vec<(String, bool)>> = doc
         .summary
         .iter()
         .map(|s| {
-            vec![
+            let extra = s.extra_cells(x).into_iter().map(|c| num(&c));
+            let mut cells = vec![
                 text(&s.method),
                 num(&format!("{}/{}", s.solved_count, s.goals)),
                 num(&cell_f64(s.fu_count, Cell::Plain)),
@@ -351,24 +354,24 @@ pub(super) fn write_comparison(
                 num(&cell_f64(s.expanded, Cell::Plain)),
                 num(&cell_f64(s.peak_frontier, Cell::Plain)),
                 num(&cell_f64(Some(s.seconds_total), Cell::Millis)),
-            ]
+            ];
+            cells.extend(extra);
+            cells
         })
         .collect();
-    body.push_str(&table(
-        "summary",
-        &[
-            "method",
-            "solved",
-            "units (mean)",
-            "height (mean)",
-            "success (mean)",
-            "leaf inputs (mean)",
-            "expanded (mean)",
-            "peak frontier (mean)",
-            "time (total ms)",
-        ],
-        &summary,
-    ));
+    let mut head = vec![
+        "method",
+        "solved",
+        "units (mean)",
+        "height (mean)",
+        "success (mean)",
+        "leaf inputs (mean)",
+        "expanded (mean)",
+        "peak frontier (mean)",
+        "time (total ms)",
+    ];
+    head.extend(extra_head.iter().map(String::as_str));
+    body.push_str(&table("summary", &head, &summary));
     if !names.is_empty() {
         body.push_str("<h2>Side by side</h2>\n<div class=\"charts\">\n");
         let panels = [
@@ -424,7 +427,7 @@ pub(super) fn write_comparison(
                 Some(e) => text(e),
                 None => num(&cell_f64(r.seconds, Cell::Millis)),
             };
-            vec![
+            let mut cells = vec![
                 text(&r.goal),
                 text(&r.method),
                 text(if r.solved { "yes" } else { "no" }),
@@ -435,25 +438,25 @@ pub(super) fn write_comparison(
                 num(&cell_int(r.expanded)),
                 num(&cell_int(r.peak_frontier)),
                 last,
-            ]
+            ];
+            cells.extend(r.extra_cells(x).into_iter().map(|c| num(&c)));
+            cells
         })
         .collect();
-    body.push_str(&table(
-        "rows",
-        &[
-            "goal",
-            "method",
-            "solved",
-            "units",
-            "height",
-            "success",
-            "leaf inputs",
-            "expanded",
-            "peak frontier",
-            "ms (or why not planned)",
-        ],
-        &rows,
-    ));
+    let mut head = vec![
+        "goal",
+        "method",
+        "solved",
+        "units",
+        "height",
+        "success",
+        "leaf inputs",
+        "expanded",
+        "peak frontier",
+        "ms (or why not planned)",
+    ];
+    head.extend(extra_head.iter().map(String::as_str));
+    body.push_str(&table("rows", &head, &rows));
     put(out, page(&title, "comparison", &body).as_bytes())
 }
 
