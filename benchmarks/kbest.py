@@ -5,71 +5,84 @@ one optimal plan of the same prepared planner.
 
 The planner is prepared once and warmed (the objective's costs over the whole FOON are
 computed on its first plan), so an optimal plan only reads its tree from them; it is timed as
-the median of 5 calls. One ``plan_k`` call before the timings imports its Python module. Each ``plan_k`` is one call from Python (the results built as
-``RankedTree`` objects). Prints one Markdown row per goal (units of the optimal tree, trees
-found for k = 100, the times, and k = 10 over one plan) and the totals. Build in release mode
-first (``maturin develop --release``)."""
+the median of 5 calls, and so is each ``plan_k`` (one call from Python, the results built as
+``RankedTree`` objects; one call before the timings imports its Python module). Prints one
+Markdown row per goal (units of the optimal tree, trees found for k = 100, the times, and
+k = 10 over one plan) and the totals. Build in release mode first (``maturin build
+--release`` and install the wheel)."""
 
 from __future__ import annotations
 
 import argparse
-import json
-import statistics
-import time
-from pathlib import Path
+from dataclasses import dataclass
 
 import foon
+from _course import Course, data_arg, median_time
 
-HERE = Path(__file__).resolve().parent
+METHODS = ("optimal-success", "optimal-units", "optimal-inputs")
+KS = (1, 10, 100)
 
 
-def timed(fn: object) -> tuple[float, object]:
-    t = time.perf_counter()
-    out = fn()  # type: ignore[operator]
-    return time.perf_counter() - t, out
+@dataclass
+class KBestTimes:
+    """One goal and method: the plan's time and units (None: unsolved), and per k its time
+    and the number of trees found."""
+
+    plan: float
+    units: int | None
+    times: dict[int, float]
+    found: dict[int, int]
+
+
+def warm(p: foon.Planner, goal: foon.Object, method: str) -> None:
+    """The objective's costs over the whole FOON, and the Python side of ``plan_k``."""
+    p.plan(goal, method)
+    p.plan_k(goal, 1, method)
+
+
+def measure(p: foon.Planner, g: foon.Object, method: str, ks: tuple[int, ...] = KS) -> KBestTimes:
+    tree = p.plan(g, method)
+    plan = median_time(lambda: p.plan(g, method))
+    times = {k: median_time(lambda k=k: p.plan_k(g, k, method)) for k in ks}  # type: ignore[misc]
+    found = {k: len(p.plan_k(g, k, method)) for k in ks}
+    return KBestTimes(plan, len(tree.units) if tree.solved else None, times, found)
+
+
+def table(c: Course, p: foon.Planner, method: str) -> list[str]:
+    """The Markdown table of one method (and the totals)."""
+    warm(p, c.goals[0], method)
+    k_hi = KS[-1]
+    out = [f"method {method}; times in ms (median of 5)", "",
+           f"| goal | units | trees (k={k_hi}) | plan | "
+           + " | ".join(f"k={k}" for k in KS) + " | k=10 / plan | k=100 / plan |",
+           "|---|---:|---:|---:|" + "---:|" * (len(KS) + 2)]  # fmt: skip
+    tot_plan, tot = 0.0, dict.fromkeys(KS, 0.0)
+    worst = 0.0
+    for g in c.goals:
+        m = measure(p, g, method)
+        tot_plan += m.plan
+        for k in KS:
+            tot[k] += m.times[k]
+        if m.units is not None:
+            worst = max(worst, m.times[10] / m.plan)
+        cells = " | ".join(f"{m.times[k] * 1e3:.3f}" for k in KS)
+        units = "unsolved" if m.units is None else str(m.units)
+        out.append(f"| {g.label} | {units} | {m.found[k_hi]} | {m.plan * 1e3:.3f} | {cells} | "
+                   f"{m.times[10] / m.plan:.1f} | {m.times[k_hi] / m.plan:.1f} |")  # fmt: skip
+    cells = " | ".join(f"{tot[k] * 1e3:.2f}" for k in KS)
+    out.append(f"| **total** | | | {tot_plan * 1e3:.2f} | {cells} | {tot[10] / tot_plan:.1f} | "
+               f"{tot[k_hi] / tot_plan:.1f} |")  # fmt: skip
+    out += ["", f"largest k=10 / plan over solved goals: {worst:.1f}"]
+    return out
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", type=Path, default=HERE.parent.parent / "shared" / "data" / "foon")
-    ap.add_argument("--method", default="optimal-success",
-                    choices=("optimal-success", "optimal-units", "optimal-inputs"))  # fmt: skip
+    data_arg(ap)
+    ap.add_argument("--method", default="optimal-success", choices=METHODS)
     args = ap.parse_args()
-    d = args.data
-    f = foon.load(d / "FOON.txt")
-    p = f.planner(
-        foon.Kitchen.load(d / "kitchen.json"),
-        motions=foon.MotionRates.load(d / "motion.txt"),
-        utensils=foon.load_utensils(d / "utensils.txt"),
-    )
-    goals = [foon.Object.from_dict(g) for g in json.loads((d / "goal_nodes_25.json").read_text())]
-    p.plan(goals[0], args.method)  # the objective's costs, once per planner
-    p.plan_k(goals[0], 1, args.method)  # the Python side of plan_k, imported on first use
-    print(f"method {args.method}; times in ms")
-    print()
-    print("| goal | units | trees (k=100) | plan | k=1 | k=10 | k=100 | k=10 / plan |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|")
-    totals = [0.0, 0.0, 0.0, 0.0]
-    worst = 0.0
-    for g in goals:
-        plan_s = statistics.median(timed(lambda g=g: p.plan(g, args.method))[0] for _ in range(5))
-        tree = p.plan(g, args.method)
-        t1, _ = timed(lambda g=g: p.plan_k(g, 1, args.method))
-        t10, _ = timed(lambda g=g: p.plan_k(g, 10, args.method))
-        t100, r100 = timed(lambda g=g: p.plan_k(g, 100, args.method))
-        n = len(r100)  # type: ignore[arg-type]
-        ratio = t10 / plan_s
-        worst = max(worst, ratio) if tree.solved else worst
-        for i, t in enumerate((plan_s, t1, t10, t100)):
-            totals[i] += t
-        units = len(tree.units) if tree.solved else "unsolved"
-        print(f"| {g.label} | {units} | {n} | {plan_s * 1e3:.3f} | {t1 * 1e3:.3f} | "
-              f"{t10 * 1e3:.3f} | {t100 * 1e3:.3f} | {ratio:.1f} |")  # fmt: skip
-    ms = [f"{t * 1e3:.2f}" for t in totals]
-    print(f"| **total** | | | {ms[0]} | {ms[1]} | {ms[2]} | {ms[3]} | "
-          f"{totals[2] / totals[0]:.1f} |")  # fmt: skip
-    print()
-    print(f"largest k=10 / plan over solved goals: {worst:.1f}")
+    c = Course.load(args.data)
+    print("\n".join(table(c, c.planner(), args.method)))
 
 
 if __name__ == "__main__":

@@ -4,53 +4,48 @@ proven optimal, the search nodes and the time of the plan.
 
     python benchmarks/shared.py [--data ../shared/data/foon] [--objective units|success]
 
-Prints one Markdown table. Build in release mode first (``maturin develop --release``).
+Prints one Markdown table. Build in release mode first (``maturin build --release`` and
+install the wheel).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-import time
-from pathlib import Path
 
 import foon
+from _course import Course, data_arg, timed
 
-HERE = Path(__file__).resolve().parent
+
+def measure(p: foon.Planner, g: foon.Object, objective: str) -> tuple[float, foon.TaskTree]:
+    """The time of one ``optimal-shared`` plan, and the plan."""
+    return timed(lambda: p.plan(g, "optimal-shared", objective=objective))  # type: ignore[arg-type]
+
+
+def table(c: Course, p: foon.Planner, objective: str) -> list[str]:
+    out = [f"objective: {objective}",
+           "| goal | optimal-units | optimal-shared | proven | nodes | seconds |",
+           "|---|---:|---:|---|---:|---:|"]  # fmt: skip
+    worst = 0.0
+    for g in c.goals:
+        units = p.plan(g, "optimal-units")
+        if not units.solved:
+            out.append(f"| {g.label} | - | - | - | - | - |")
+            continue
+        dt, shared = measure(p, g, objective)
+        worst = max(worst, dt)
+        out.append(f"| {g.label} | {len(units.units)} | {len(shared.units)} | {shared.proven} | "
+                   f"{shared.expanded} | {dt:.4f} |")  # fmt: skip
+    out.append(f"\nslowest goal: {worst:.4f} s")
+    return out
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", type=Path, default=HERE.parents[1] / "shared" / "data" / "foon")
+    data_arg(ap)
     ap.add_argument("--objective", choices=["units", "success"], default="units")
     args = ap.parse_args()
-    f = foon.load(args.data / "FOON.txt")
-    kitchen = foon.Kitchen.load(args.data / "kitchen.json")
-    motions = foon.MotionRates.load(args.data / "motion.txt")
-    utensils = foon.load_utensils(args.data / "utensils.txt")
-    goals = [
-        foon.Object.from_dict(d)
-        for d in json.loads((args.data / "goal_nodes_25.json").read_text(encoding="utf-8"))
-    ]
-    planner = f.planner(kitchen, motions=motions, utensils=utensils)
-    print(f"objective: {args.objective}")
-    print("| goal | optimal-units | optimal-shared | proven | nodes | seconds |")
-    print("|---|---:|---:|---|---:|---:|")
-    worst = 0.0
-    for g in goals:
-        units = planner.plan(g, "optimal-units")
-        if not units.solved:
-            print(f"| {g.label} | - | - | - | - | - |")
-            continue
-        t0 = time.perf_counter()
-        shared = planner.plan(g, "optimal-shared", objective=args.objective)
-        dt = time.perf_counter() - t0
-        worst = max(worst, dt)
-        print(
-            f"| {g.label} | {len(units.units)} | {len(shared.units)} | {shared.proven} | "
-            f"{shared.expanded} | {dt:.4f} |"
-        )
-    print(f"\nslowest goal: {worst:.4f} s")
+    c = Course.load(args.data)
+    print("\n".join(table(c, c.planner(), args.objective)))
     return 0
 
 
