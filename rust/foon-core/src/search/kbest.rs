@@ -8,9 +8,11 @@
 //! exact because every constraint restricts the producers of one object, and one choice per
 //! object is all a tree is. Taking a subspace's best tree T out leaves, for each object `o_i` of T
 //! in pre-order, the trees that agree with T on `o_1 .. o_(i-1)` and choose another producer at `o_i`:
-//! a partition of the rest. Subspaces are solved only when their lower bound (the cost of the
-//! tree they were cut from) comes first. Assignments that give a set of units already listed
-//! are skipped, so every set comes once, at its lowest cost.
+//! a partition of the rest. Subspaces are solved only when their lower bound (the tree they
+//! were cut from, read with the object they differ at raised to its next producer: see
+//! `Partition::children`) comes first; they are listed in (cost, place in the partition)
+//! order. Assignments that give a set of units already listed are skipped, so every set comes
+//! once, at its lowest cost.
 
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashSet};

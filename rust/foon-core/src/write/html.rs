@@ -497,6 +497,14 @@ mod tests {
             peak_frontier: Some(5),
             seconds: Some(0.001),
             error: None,
+            level: 3,
+            objective: None,
+            bound: None,
+            proven: None,
+            gap: None,
+            max_human: None,
+            split_success: None,
+            fixed_tree_success: None,
         };
         let doc = Comparison::new(vec![row("a", true), row("b", false)]);
         let mut buf = Vec::new();
