@@ -294,6 +294,15 @@ def compare_rows(c: Course, goals: Sequence[foon.Object]) -> tuple[list[Any], li
                     "peak_frontier": t.peak_frontier,
                     "seconds": t.seconds,
                     "error": None,
+                    # The columns after the CLI's (level, optimal-shared's, the split's).
+                    "level": 3,
+                    "objective": t.objective,
+                    "bound": t.bound if t.solved else None,
+                    "proven": t.proven if t.solved else None,
+                    "gap": t.gap if t.solved else None,
+                    "max_human": None,
+                    "split_success": None,
+                    "fixed_tree_success": None,
                 }
             )
         err = f"goal not found: {missing}"
@@ -301,7 +310,7 @@ def compare_rows(c: Course, goals: Sequence[foon.Object]) -> tuple[list[Any], li
         dicts.append(
             dict.fromkeys(dicts[0])
             | {"goal": str(missing), "method": m, "solved": False}
-            | {"error": err}
+            | {"error": err, "level": 3}
         )
     return native, dicts
 
@@ -384,6 +393,12 @@ def expected_summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 "expanded": mean("expanded", planned),
                 "peak_frontier": mean("peak_frontier", planned),
                 "seconds_total": sum_left(r["seconds"] for r in planned),
+                "proven_count": sum(r["proven"] is True for r in rs)
+                if any(r["objective"] is not None for r in rs)
+                else None,
+                "gap": mean("gap"),
+                "split_success": None,
+                "fixed_tree_success": None,
             }
         )
     return out
@@ -408,17 +423,43 @@ def _cell(v: Any, kind: str = "") -> str:
     return str(v)
 
 
+def _figure(v: float | None, objective: str | None) -> str:
+    """optimal-shared's bound or gap: a success in percent, a whole count as an integer."""
+    if v is not None and objective == "success":
+        return _cell(v, "pct")
+    if v is not None and v == int(v):
+        return str(int(v))
+    return _cell(v)
+
+
 def expected_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) -> str:
     out = io.StringIO()
     head = ["goal", "method", "units", "height", "success", "leaves", "expanded", "peak", "ms"]
+    # optimal-shared's columns when it is compared (the level's are for levels other than 3,
+    # the split's for --split: neither here).
+    shared = any(r["objective"] is not None for r in rows)
+    if shared:
+        head += ["bound", "gap", "proven"]
 
     def cells(first: str, r: dict[str, Any], last: str) -> list[str]:
         metrics = [_cell(r["fu_count"]), _cell(r["height"]), _cell(r["success"], "pct")]
         search = [_cell(r["leaf_inputs"]), _cell(r["expanded"]), _cell(r["peak_frontier"])]
         return [first, r["method"], *metrics, *search, last]
 
+    def proven(p: bool | None) -> str:
+        return "-" if p is None else "yes" if p else "no"
+
     body = [
         cells(r["goal"][:48], r, "not found" if r["error"] else _cell(r["seconds"], "ms"))
+        + (
+            [
+                _figure(r["bound"], r["objective"]),
+                _figure(r["gap"], r["objective"]),
+                proven(r["proven"]),
+            ]
+            if shared
+            else []
+        )
         for r in rows
     ]
     body += [
@@ -426,6 +467,17 @@ def expected_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) ->
             f"(all: {srow['solved_count']}/{srow['goals']} solved; means, total ms)",
             srow,
             _cell(srow["seconds_total"], "ms"),
+        )
+        + (
+            [
+                "-",
+                _cell(srow["gap"]),
+                "-"
+                if srow["proven_count"] is None
+                else f"{srow['proven_count']}/{srow['solved_count']}",
+            ]
+            if shared
+            else []
         )
         for srow in summary
     ]
@@ -449,7 +501,9 @@ def expected_table(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) ->
 
 def expected_csv(rows: list[dict[str, Any]], summary: list[dict[str, Any]]) -> str:
     out = io.StringIO(newline="")
-    fields = [*rows[0].keys(), "solved_count", "goals", "seconds_total"]
+    base = [*rows[0].keys()][:11]
+    more = [*rows[0].keys()][11:]
+    fields = [*base, "solved_count", "goals", "seconds_total", *more, "proven_count"]
     w = csv.DictWriter(out, fieldnames=fields)
     w.writeheader()
     w.writerows(rows)
@@ -476,7 +530,8 @@ def test_an_empty_comparison() -> None:
     f = foon.Foon.from_text("O\tegg\nS\traw\nM\tcrack\nO\tegg\nS\tcracked\n//\n")
     assert _foon.write_comparison(f._native, [], "text") == b""
     head = _foon.write_comparison(f._native, [], "csv").decode()
-    assert head.endswith("seconds_total\r\n") and head.count("\r\n") == 1
+    assert "seconds_total," in head and head.endswith("proven_count\r\n")
+    assert head.count("\r\n") == 1
     page = _foon.write_comparison(f._native, [], "html").decode()
     assert "<svg" not in page and page.endswith("</html>\n")
 

@@ -391,7 +391,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     for nf in lost:
         error(summary(nf))
     ids = [r for r in resolved if isinstance(r, int)]
-    level = getattr(args, "level", 3)
+    level: Literal[1, 2, 3] = getattr(args, "level", 3)
     planner = f.planner(
         kitchen, motions=motions, utensils=utensils, default_rate=args.default_rate, level=level
     )
