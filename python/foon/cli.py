@@ -367,6 +367,13 @@ def _compare_options(cp: argparse.ArgumentParser) -> None:
     cp.add_argument("--default-rate", type=float, metavar="R")
     cp.add_argument("--threads", type=_threads, metavar="N")
     cp.add_argument(
+        "--level",
+        type=int,
+        choices=[1, 2, 3],
+        default=3,
+        help="identity level for matching the kitchen and goals (as for plan)",
+    )
+    cp.add_argument(
         "--split",
         type=_count_arg,
         metavar="M",
