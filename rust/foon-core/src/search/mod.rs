@@ -13,6 +13,7 @@ mod optimal;
 pub mod paths;
 mod plan;
 mod query;
+mod radix;
 mod scratch;
 mod shared;
 pub mod split;

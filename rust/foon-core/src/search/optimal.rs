@@ -13,6 +13,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use super::radix::RadixQueue;
 use super::scratch::IdMap;
 use super::{Context, Explanation, Method, Plan, Query, tree};
 use crate::error::Result;
@@ -202,93 +203,103 @@ pub(super) fn knuth(
 
 /// Knuth's algorithm from the kitchen over the whole FOON, to the end: leaves (`is_leaf`)
 /// cost `leaf`, an FU weighs `weight`; the same rules as [`knuth`], in time near-linear in the
-/// FOON (one heap entry per improvement of an object's cost).
+/// FOON (one queue entry per improvement of an object's cost). Each object's cost, choice and
+/// state sit side by side (one cache line read per look-up on a FOON far larger than the
+/// caches), and the queue is the radix heap of `radix.rs`, whose pops are those of a binary
+/// heap of [`Entry`].
 fn knuth_all(
     ctx: &Context<'_>,
     is_leaf: &dyn Fn(u32) -> bool,
     leaf: f64,
     weight: &dyn Fn(u32) -> f64,
 ) -> Result<Optimum> {
-    const OPEN: u8 = 0;
-    const DONE: u8 = 1;
+    const OPEN: u32 = 0;
+    const DONE: u32 = 1;
     // A leaf not yet final, or an object whose cost no unit sets (a bare output).
-    const FIXED: u8 = 2;
+    const FIXED: u32 = 2;
+    #[derive(Clone, Copy)]
+    struct Slot {
+        cost: f64,
+        choice: u32,
+        state: u32,
+    }
     let foon = ctx.foon;
     let n = foon.object_count();
-    let mut cost = vec![f64::INFINITY; n];
-    let mut choice = vec![NONE; n];
-    let mut state = vec![OPEN; n];
-    // The leaves, final in id order at their fixed cost: a sorted run merged with the heap
-    // (the same pops as with them in the heap, without their heap entries).
+    let mut slots = vec![
+        Slot {
+            cost: f64::INFINITY,
+            choice: NONE,
+            state: OPEN,
+        };
+        n
+    ];
+    // The leaves, final in id order at their fixed cost: a sorted run merged with the queue
+    // (the same pops as with them in the queue, without their entries).
     let mut leaves = Vec::new();
-    for o in 0..n as u32 {
+    for (o, slot) in (0..n as u32).zip(slots.iter_mut()) {
         if is_leaf(o) {
-            cost[o as usize] = leaf;
-            state[o as usize] = FIXED;
+            slot.cost = leaf;
+            slot.state = FIXED;
             leaves.push(o);
         } else if foon.is_bare(o) {
-            state[o as usize] = FIXED;
+            slot.state = FIXED;
         }
     }
     let mut left: Vec<u32> = (0..foon.fu_count() as u32)
         .map(|f| ctx.needed(f).len() as u32)
         .collect();
-    let mut heap = BinaryHeap::new();
-    let fire = |f: u32,
-                cost: &mut [f64],
-                choice: &mut [u32],
-                state: &[u8],
-                heap: &mut BinaryHeap<Entry>| {
+    let mut queue = RadixQueue::new();
+    let fire = |f: u32, slots: &mut [Slot], queue: &mut RadixQueue| {
         let mut c = weight(f);
         for &x in ctx.needed(f) {
-            c += cost[x as usize];
+            c += slots[x as usize].cost;
         }
         for &y in foon.outputs(f) {
-            let yi = y as usize;
-            if state[yi] != OPEN {
+            let s = &mut slots[y as usize];
+            if s.state != OPEN {
                 continue;
             }
-            let (old_cost, old_choice) = (cost[yi], choice[yi]);
             // Equal costs are compared exactly on purpose: the tie goes to the lower index.
             #[allow(clippy::float_cmp)]
-            let better = c < old_cost || (c == old_cost && f < old_choice);
+            let better = c < s.cost || (c == s.cost && f < s.choice);
             if better {
-                if c < old_cost {
-                    heap.push(Entry { cost: c, obj: y });
+                if c < s.cost {
+                    queue.push(Entry { cost: c, obj: y });
                 }
-                cost[yi] = c;
-                choice[yi] = f;
+                s.cost = c;
+                s.choice = f;
             }
         }
     };
     for f in 0..foon.fu_count() as u32 {
         if left[f as usize] == 0 {
-            fire(f, &mut cost, &mut choice, &state, &mut heap);
+            fire(f, &mut slots, &mut queue);
         }
     }
     let mut next_leaf = 0;
     let mut finalised = 0u64;
     loop {
-        let from_leaves = match (heap.peek(), leaves.get(next_leaf)) {
+        let from_leaves = match (queue.peek(), leaves.get(next_leaf)) {
             (None, None) => break,
             (None, Some(_)) => true,
             (Some(_), None) => false,
-            // `Entry` orders the heap's top as the greatest.
+            // `Entry` orders the least as the greatest (a min-heap).
             (Some(top), Some(&l)) => Entry { cost: leaf, obj: l } > *top,
         };
         let o = if from_leaves {
             next_leaf += 1;
             leaves[next_leaf - 1]
         } else {
-            let Some(Entry { cost: c, obj: o }) = heap.pop() else {
+            let Some(Entry { cost: c, obj: o }) = queue.pop() else {
                 break;
             };
-            if state[o as usize] == DONE || c > cost[o as usize] {
+            let s = &slots[o as usize];
+            if s.state == DONE || c > s.cost {
                 continue;
             }
             o
         };
-        state[o as usize] = DONE;
+        slots[o as usize].state = DONE;
         finalised += 1;
         if finalised % 4096 == 0 {
             ctx.check_stop()?;
@@ -297,16 +308,20 @@ fn knuth_all(
             let l = &mut left[f as usize];
             *l -= 1;
             if *l == 0 {
-                fire(f, &mut cost, &mut choice, &state, &mut heap);
+                fire(f, &mut slots, &mut queue);
             }
         }
     }
-    for (o, &s) in state.iter().enumerate() {
-        if s != DONE {
-            cost[o] = f64::INFINITY;
-            choice[o] = NONE;
-        }
-    }
+    let (cost, choice) = slots
+        .iter()
+        .map(|s| {
+            if s.state == DONE {
+                (s.cost, s.choice)
+            } else {
+                (f64::INFINITY, NONE)
+            }
+        })
+        .unzip();
     Ok(Optimum { cost, choice })
 }
 

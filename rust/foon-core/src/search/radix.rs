@@ -1,0 +1,175 @@
+//! A monotone priority queue for Knuth's algorithm: a radix heap on the bits of the cost, with
+//! exactly the pops of a binary min-heap on (cost, object id).
+//!
+//! Knuth's algorithm over non-negative weights pushes costs that are never below the last one
+//! popped (a unit's cost is its weight plus its inputs' costs, and adding non-negative floats
+//! never decreases a sum). For such a sequence a radix heap (Ahuja, Mehlhorn, Orlin and
+//! Tarjan, 1990) pushes in O(1) and pops in amortised O(log C) bucket moves, touching memory
+//! in runs instead of the binary heap's random walk down a tree of a million entries. The
+//! cost of a non-negative `f64` orders as its bit pattern, so the buckets hold the index of
+//! the highest bit in which an entry's cost differs from the last popped one.
+//!
+//! Ties: the searches break equal costs by object id (the order of [`Entry`]), so the entries
+//! whose cost equals the last popped one (bucket 0) are kept in a small binary heap of
+//! [`Entry`]. An entry pushed below the last popped cost (which the searches never do) also
+//! goes there, so the pops are always those of a binary heap of [`Entry`]: everything in
+//! bucket 0 is at most the last popped cost, everything elsewhere above it.
+
+use std::collections::BinaryHeap;
+
+use super::optimal::Entry;
+
+/// A min-queue on (cost, object id) for non-negative, monotone costs (see the module
+/// documentation).
+pub(super) struct RadixQueue {
+    /// Bits of the last cost that bucket 0 was refilled at.
+    last: u64,
+    /// Entries whose cost is at most `last`, popped in [`Entry`] order.
+    low: BinaryHeap<Entry>,
+    /// `buckets[i]`: entries whose cost first differs from `last` in bit `i` (from 0, the
+    /// lowest), as (cost bits, object).
+    buckets: Vec<Vec<(u64, u32)>>,
+    len: usize,
+}
+
+impl RadixQueue {
+    pub(super) fn new() -> Self {
+        Self {
+            last: 0,
+            low: BinaryHeap::new(),
+            buckets: (0..64).map(|_| Vec::new()).collect(),
+            len: 0,
+        }
+    }
+
+    #[inline]
+    pub(super) fn push(&mut self, e: Entry) {
+        self.len += 1;
+        // A cost with its sign bit set (below every other, as `Entry` orders floats) goes
+        // with the least ones.
+        let k = e.cost.to_bits();
+        if e.cost.is_sign_negative() || k <= self.last {
+            self.low.push(e);
+        } else {
+            let b = 63 - (k ^ self.last).leading_zeros() as usize;
+            self.buckets[b].push((k, e.obj));
+        }
+    }
+
+    /// Moves the entries of the lowest non-empty bucket down, the cheapest into `low`, when
+    /// `low` is empty.
+    fn refill(&mut self) {
+        if !self.low.is_empty() {
+            return;
+        }
+        let Some(b) = self.buckets.iter().position(|v| !v.is_empty()) else {
+            return;
+        };
+        let mut moved = std::mem::take(&mut self.buckets[b]);
+        let least = moved.iter().map(|&(k, _)| k).min().unwrap_or(self.last);
+        self.last = least;
+        for &(k, obj) in &moved {
+            if k == least {
+                self.low.push(Entry {
+                    cost: f64::from_bits(k),
+                    obj,
+                });
+            } else {
+                let to = 63 - (k ^ least).leading_zeros() as usize;
+                // Every entry of bucket `b` agrees with `least` above bit `b`, so it moves to
+                // a lower bucket.
+                debug_assert!(to < b);
+                self.buckets[to].push((k, obj));
+            }
+        }
+        moved.clear();
+        // Keep the allocation for the next entries of this bucket.
+        self.buckets[b] = moved;
+    }
+
+    /// The least entry (cost, then object id), without removing it.
+    #[inline]
+    pub(super) fn peek(&mut self) -> Option<&Entry> {
+        self.refill();
+        self.low.peek()
+    }
+
+    #[inline]
+    pub(super) fn pop(&mut self) -> Option<Entry> {
+        self.refill();
+        let e = self.low.pop()?;
+        self.len -= 1;
+        Some(e)
+    }
+
+    #[cfg(test)]
+    pub(super) fn len(&self) -> usize {
+        self.len
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Pops equal a binary heap's under Knuth's discipline (a push is never below the
+        /// last pop), ties by object id, including repeated costs, zeros and stale entries.
+        #[test]
+        fn pops_as_a_binary_heap(ops in proptest::collection::vec(
+            (0u8..4, 0u32..50, 0u32..40), 1..400)) {
+            let mut radix = RadixQueue::new();
+            let mut heap = BinaryHeap::new();
+            let mut floor = 0.0f64;
+            for (kind, obj, step) in ops {
+                if kind == 0 {
+                    let a = radix.pop();
+                    let b = heap.pop();
+                    prop_assert_eq!(a.as_ref().map(|e| (e.cost, e.obj)),
+                        b.as_ref().map(|e: &Entry| (e.cost, e.obj)));
+                    if let Some(e) = a {
+                        floor = e.cost;
+                    }
+                } else {
+                    // Costs from the last pop upward, often equal, some fractional,
+                    // and -0.0 beside 0.0.
+                    let mut cost = floor + f64::from(step / 4) * if kind == 1 { 0.37 } else { 1.0 };
+                    if cost == 0.0 && step % 2 == 1 {
+                        cost = -0.0;
+                    }
+                    radix.push(Entry { cost, obj });
+                    heap.push(Entry { cost, obj });
+                }
+                prop_assert_eq!(radix.len(), heap.len());
+                prop_assert_eq!(radix.peek().map(|e| (e.cost, e.obj)),
+                    heap.peek().map(|e| (e.cost, e.obj)));
+            }
+            while let Some(b) = heap.pop() {
+                let a = radix.pop().map(|e| (e.cost, e.obj));
+                prop_assert_eq!(a, Some((b.cost, b.obj)));
+            }
+            prop_assert!(radix.pop().is_none());
+        }
+
+        /// A push below the last pop (never made by the searches) still pops in order.
+        #[test]
+        fn pushes_below_the_floor_still_pop_in_order(costs in proptest::collection::vec(
+            0u32..20, 1..100)) {
+            let mut radix = RadixQueue::new();
+            let mut heap = BinaryHeap::new();
+            for (i, &c) in costs.iter().enumerate() {
+                let e = || Entry { cost: f64::from(c), obj: i as u32 };
+                radix.push(e());
+                heap.push(e());
+                if i % 3 == 0 {
+                    prop_assert_eq!(radix.pop().map(|e| (e.cost, e.obj)),
+                        heap.pop().map(|e| (e.cost, e.obj)));
+                }
+            }
+            while let Some(b) = heap.pop() {
+                prop_assert_eq!(radix.pop().map(|e| (e.cost, e.obj)), Some((b.cost, b.obj)));
+            }
+        }
+    }
+}
