@@ -1,9 +1,9 @@
-"""Issue 12 in one run on the 25 course goals (course FOON, kitchen, motion rates and
-utensils): per goal, ``explain``; the robot/human split for M = 0..5 (and the lab's
+"""Explanations, the split, the k best trees and optimal-shared in one run, on the 25 course
+goals (course FOON, kitchen, motion rates and utensils): per goal, ``explain``; the robot/human split for M = 0..5 (and the lab's
 fixed-tree method); the k best trees for k = 1, 10 and 100 of each optimal objective with
 the ratio to one optimal plan; and ``optimal-shared`` (time, units, proven).
 
-    python benchmarks/issue12.py [--data ../shared/data/foon] [--max-human 5]
+    python benchmarks/beyond.py [--data ../shared/data/foon] [--max-human 5]
 
 Prints Markdown tables and the command line. Build the wheel in release mode first
 (``maturin build --release`` and install it). The machine may be shared: read the ratios,
