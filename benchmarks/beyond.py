@@ -1,7 +1,8 @@
-"""Explanations, the split, the k best trees and optimal-shared in one run, on the 25 course
-goals (course FOON, kitchen, motion rates and utensils): per goal, ``explain``; the
-robot/human split for M = 0..5 (and the lab's fixed-tree method); the k best trees for k = 1, 10 and 100 of each optimal objective with
-the ratio to one optimal plan; and ``optimal-shared`` (time, units, proven).
+"""Explanations, the split, the k best trees and optimal-shared in one run, on the 25 course goals
+(course FOON, kitchen, motion rates and utensils): per goal, ``explain``; the robot/human split
+for M = 0..5 (and the lab's fixed-tree method); the k best trees for k = 1, 10 and 100 of each
+optimal objective with the ratio to one optimal plan; and ``optimal-shared`` (time, units,
+proven).
 
     python benchmarks/beyond.py [--data ../shared/data/foon] [--max-human 5]
 
