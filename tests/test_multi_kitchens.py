@@ -45,6 +45,13 @@ def check(rf: ref.RefFoon, f: foon.Foon, kitchens: list[set[int]], utensils: set
     got_d = f.derivable_many(natives, goals, utensils=sorted(utensils))
     got_r = f.ranks_many(natives, goals, utensils=sorted(utensils), threads=2)
     assert len(got_d) == len(got_r) == len(kitchens)
+    # The baselines of the benchmark: each kitchen prepared on its own, or on a shared base.
+    for mode in ("separate", "shared"):
+        assert (
+            foon._foon.derivable_many(f._native, [k._native for k in natives], goals,
+                                      sorted(utensils), 3, True, None, mode)
+            == got_r
+        )  # fmt: skip
     for i, k in enumerate(kitchens):
         want = ref_ranks(rf, k, utensils)
         assert got_r[i] == [want.get(o) for o in goals], i

@@ -465,4 +465,5 @@ def derivable_many(
     level: int = 3,
     ranks: bool = False,
     threads: int | None = None,
+    mode: str = "lanes",
 ) -> list[list[bool]] | list[list[int | None]]: ...

@@ -278,7 +278,9 @@ fn run_batches(
     let free: Vec<u32> = (0..foon.fu_count() as u32)
         .filter(|&f| base.needed(f).is_empty())
         .collect();
-    let one = |c: &[&[u32]]| lane_pass(foon, base, c, &free, log, cancel);
+    // Bare outputs are never made (read once here, not once per firing).
+    let bare: Vec<bool> = (0..n as u32).map(|o| foon.is_bare(o)).collect();
+    let one = |c: &[&[u32]]| lane_pass(foon, base, c, &free, &bare, log, cancel);
     if workers <= 1 {
         return chunks.iter().map(|c| one(c)).collect();
     }
@@ -319,12 +321,13 @@ fn run_batches(
 
 /// One batch of at most 64 kitchens: forward chaining round by round over the lanes (see the
 /// module documentation). `free`: the FUs with no needed input. With `log`, the rounds in
-/// which each object gained lanes.
+/// which each object gained lanes. `bare`: per object, whether it is bare.
 fn lane_pass(
     foon: &Foon,
     base: &PreparedBase,
     kitchens: &[&[u32]],
     free: &[u32],
+    bare: &[bool],
     log: bool,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Batch> {
@@ -393,7 +396,7 @@ fn lane_pass(
             }
             fired[f as usize] |= m;
             for &y in foon.outputs(f) {
-                if foon.is_bare(y) {
+                if bare[y as usize] {
                     continue;
                 }
                 let g = &mut gain[y as usize];

@@ -33,7 +33,11 @@ fn check_lanes(foon: &Foon, utensils: &[String], kitchens: &[Vec<u32>], threads:
         assert_eq!(on_base.ranks(), want, "kitchen {k}");
         assert_eq!(&r.ranks(k), want, "kitchen {k}");
         for o in 0..foon.object_count() as u32 {
-            assert_eq!(d.is_derivable(k, o), want.is_derivable(o), "kitchen {k}, object {o}");
+            assert_eq!(
+                d.is_derivable(k, o),
+                want.is_derivable(o),
+                "kitchen {k}, object {o}"
+            );
             assert_eq!(r.rank(k, o), want.rank(o), "kitchen {k}, object {o}");
         }
     }
