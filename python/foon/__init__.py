@@ -1387,6 +1387,57 @@ class Foon:
         (None when it cannot be made)."""
         return self.planner(kitchen, utensils=utensils).ranks()
 
+    def derivable_many(
+        self,
+        kitchens: Iterable[KitchenLike],
+        goals: Iterable[GoalLike],
+        *,
+        utensils: UtensilsLike = None,
+        level: Literal[1, 2, 3] = 3,
+        threads: int | None = None,
+    ) -> list[list[bool]]:
+        """Whether each goal can be made in each kitchen: ``result[k][g]`` for kitchen
+        ``k`` and goal ``g`` (in the order given). Up to 64 kitchens are decided in one
+        forward chaining over the FOON (one bit per kitchen per object), batches of 64 on
+        ``threads`` threads; no kitchen is prepared for planning (METHODS.md, "Many kitchens
+        at once"). ``level`` as for :meth:`plan`."""
+        out: list[list[bool]] = self._many(kitchens, goals, utensils, level, threads, False)
+        return out
+
+    def ranks_many(
+        self,
+        kitchens: Iterable[KitchenLike],
+        goals: Iterable[GoalLike],
+        *,
+        utensils: UtensilsLike = None,
+        level: Literal[1, 2, 3] = 3,
+        threads: int | None = None,
+    ) -> list[list[int | None]]:
+        """As :meth:`derivable_many`, each goal's rank in each kitchen (the fewest parallel
+        steps that make it, as :meth:`ranks` gives; None when it cannot be made there)."""
+        out: list[list[int | None]] = self._many(kitchens, goals, utensils, level, threads, True)
+        return out
+
+    def _many(
+        self,
+        kitchens: Iterable[KitchenLike],
+        goals: Iterable[GoalLike],
+        utensils: UtensilsLike,
+        level: Literal[1, 2, 3],
+        threads: int | None,
+        ranks: bool,
+    ) -> Any:
+        if isinstance(level, bool) or level not in (1, 2, 3):
+            raise ValueError(f"level must be 1, 2 or 3, not {level!r}")
+        _check_goals(goals)
+        if isinstance(kitchens, str | bytes | Kitchen):
+            raise TypeError(f"kitchens must be an iterable of kitchens, not {_type(kitchens)}")
+        natives = [_as_kitchen(k)._native for k in kitchens]
+        ids = [self.goal_id(g) for g in goals]
+        return _foon.derivable_many(
+            self._native, natives, ids, _as_utensils(utensils), level, ranks, threads
+        )
+
     def verify(
         self,
         tree: Foon | PathLike,

@@ -455,3 +455,17 @@ def plan_split(
     max_human: int,
     fixed_tree: bool = False,
 ) -> dict[str, Any]: ...
+
+# Many kitchens at once.
+__all__ += ["derivable_many"]
+
+def derivable_many(
+    foon: Foon,
+    kitchens: list[Kitchen],
+    goals: list[int],
+    utensils: list[str],
+    level: int = 3,
+    ranks: bool = False,
+    threads: int | None = None,
+    mode: str = "lanes",
+) -> list[list[bool]] | list[list[int | None]]: ...

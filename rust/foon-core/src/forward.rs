@@ -17,6 +17,12 @@ pub struct Ranks {
 }
 
 impl Ranks {
+    /// Ranks given per object (`NONE` when not derivable), computed elsewhere
+    /// ([`crate::multi`]).
+    pub(crate) fn from_vec(rank: Vec<u32>) -> Self {
+        Self { rank }
+    }
+
     pub fn rank(&self, o: u32) -> Option<u32> {
         self.rank.get(o as usize).copied().filter(|&r| r != NONE)
     }

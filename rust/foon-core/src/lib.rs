@@ -30,6 +30,11 @@ pub mod synth;
 pub mod verify;
 pub mod write;
 
+// Many kitchens at once: the shared base, the 64-lane pass, the cache of prepared kitchens.
+pub mod cache;
+pub mod multi;
+pub use prepare::PreparedBase;
+
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
 pub use index::{Foon, NONE, Report, Stats};
 pub use kitchen::Kitchen;

@@ -5,7 +5,7 @@
 //! use: each optimal objective's costs and choices over the whole FOON, the cheapest shopping
 //! costs of failure explanations, the choice of `ids`.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -16,17 +16,40 @@ pub use crate::forward::Ranks;
 use crate::index::{Csr, Foon, NONE};
 use crate::model::{MotionRates, ObjectSpec, check_rate};
 
-/// Planning inputs prepared for one FOON: the kitchen matched to objects, the container rule
-/// applied (needed inputs), the motion rate of every FU. It owns its data, so it can be kept
-/// and reused for any number of plans ([`Context::with`](crate::search::Context::with)); it
-/// is `Send + Sync`. What depends on the kitchen only (ranks; each optimal objective's costs
-/// and choices; the shopping costs of explanations; the choices of `ids`) is computed on first
-/// use, once, in one pass over the FOON, and kept for every later plan of any thread.
+/// Planning inputs prepared for one FOON: the kitchen matched to objects, on a
+/// [`PreparedBase`] (the container rule applied, the motion rate of every FU), shared with
+/// every other kitchen prepared on it. It owns its data, so it can be kept and reused for any
+/// number of plans ([`Context::with`](crate::search::Context::with)); it is `Send + Sync`.
+/// What depends on the kitchen (ranks; each optimal objective's costs and choices; the
+/// shopping costs of explanations; the choices of `ids`) is computed on first use, once, in
+/// one pass over the FOON, and kept for every later plan of any thread.
 pub struct Prepared {
     /// Content fingerprint of the FOON these inputs were prepared for.
     foon: [u8; 16],
+    /// What does not depend on the kitchen: needed inputs, rates, greedy orders.
+    base: Arc<PreparedBase>,
     in_kitchen: Vec<bool>,
     kitchen_objects: Vec<u32>,
+    ranks: OnceLock<Ranks>,
+    /// Per [`Objective`]: final costs and choices from the kitchen over the whole FOON.
+    optima: [OnceLock<Optimum>; Objective::COUNT],
+    /// `ids`: the first producer of each object that achieves its rank (`NONE` when none).
+    ids_choice: OnceLock<Vec<u32>>,
+    /// The identity level the kitchen was matched at (1, 2 or 3; results report it).
+    level: u8,
+}
+
+/// The part of [`Prepared`] that does not depend on the kitchen, computed once per (FOON,
+/// utensils, rates, default rate) and shared (an [`Arc`]) by every kitchen prepared on it
+/// ([`Prepared::with_base`]): the needed inputs of every FU under the container rule, the FUs
+/// that need each object, the rate of every FU's motion, and (on first use) the producer
+/// order of each greedy heuristic, whose keys depend on the rates and the inputs only.
+pub struct PreparedBase {
+    /// Content fingerprint of the FOON.
+    foon: [u8; 16],
+    /// [`PreparedBase::key_of`] the utensils, rates and default rate.
+    key: u128,
+    object_count: usize,
     /// Needed inputs of each FU (container rule applied), in input order.
     needed: Csr,
     /// For each object, the FUs where it is a needed input (one entry per slot).
@@ -35,19 +58,13 @@ pub struct Prepared {
     rates_given: bool,
     /// Whether every FU's motion has a rate.
     all_rated: bool,
-    ranks: OnceLock<Ranks>,
-    /// Per [`Objective`]: final costs and choices from the kitchen over the whole FOON.
-    optima: [OnceLock<Optimum>; Objective::COUNT],
-    /// `ids`: the first producer of each object that achieves its rank (`NONE` when none).
-    ids_choice: OnceLock<Vec<u32>>,
     /// Per greedy heuristic: each object's producers in its order, and the course's choice.
     greedy: [OnceLock<Greedy>; Greedy::COUNT],
-    /// The identity level the kitchen was matched at (1, 2 or 3; results report it).
-    level: u8,
 }
 
-/// One greedy heuristic's producer order for every object, computed once per kitchen (the
-/// keys depend on the rates and the needed inputs only, not on the goal or the path).
+/// One greedy heuristic's producer order for every object, computed once per
+/// [`PreparedBase`] (the keys depend on the rates and the inputs only, not on the kitchen, the
+/// goal or the path).
 pub(crate) struct Greedy {
     /// Each object's producers, best first, ties by FU index (the sound search's order).
     pub(crate) order: Csr,
@@ -125,10 +142,17 @@ impl Prepared {
         rates: Option<&MotionRates>,
         default_rate: Option<f64>,
     ) -> Result<Self> {
-        if let Some(r) = default_rate {
-            check_rate(None, r)?;
-        }
-        let n = foon.object_count();
+        let base = PreparedBase::new(foon, utensils, rates, default_rate)?;
+        Self::with_base(foon, Arc::new(base), kitchen)
+    }
+
+    /// The kitchen `kitchen` (object ids of `foon`, any order, repeats allowed) prepared on
+    /// `base`, which must have been built for `foon`. It costs the kitchen's size (plus one
+    /// zeroed flag per object); what depends on the kitchen is computed on first use, as
+    /// for [`Prepared::with_objects`], whose result this equals.
+    pub fn with_base(foon: &Foon, base: Arc<PreparedBase>, kitchen: &[u32]) -> Result<Self> {
+        base.check_foon(foon)?;
+        let n = base.object_count;
         let mut in_kitchen = vec![false; n];
         let mut kitchen_objects = Vec::with_capacity(kitchen.len());
         for &o in kitchen {
@@ -143,40 +167,44 @@ impl Prepared {
             }
         }
         kitchen_objects.sort_unstable();
-        let utensil_ids: FxHashSet<u32> = utensils
-            .iter()
-            .filter_map(|u| foon.strings().get(u))
-            .collect();
-        let needed = needed_inputs(foon, &utensil_ids);
-        let n_fu = foon.fu_count() as u32;
-        let needed_by = Csr::from_pairs(
-            n,
-            (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
-        );
-        let fu_rate: Vec<f64> = (0..n_fu)
-            .map(|f| {
-                rates
-                    .and_then(|r| r.get(foon.motion_text(f)))
-                    .or(default_rate)
-                    .unwrap_or(f64::NAN)
-            })
-            .collect();
-        let all_rated = fu_rate.iter().all(|r| !r.is_nan());
         Ok(Self {
-            foon: foon.fingerprint(),
+            foon: base.foon,
+            base,
             in_kitchen,
             kitchen_objects,
-            needed,
-            needed_by,
-            fu_rate,
-            rates_given: rates.is_some() || default_rate.is_some(),
-            all_rated,
             ranks: OnceLock::new(),
             optima: Default::default(),
             ids_choice: OnceLock::new(),
-            greedy: Default::default(),
             level: 3,
         })
+    }
+
+    /// The kitchen-independent part these inputs were prepared on (shared with every other
+    /// kitchen prepared on it).
+    pub fn base(&self) -> &Arc<PreparedBase> {
+        &self.base
+    }
+
+    /// Sets the ranks from the kitchen, computed elsewhere (the lanes of
+    /// [`multi::ranks_many`](crate::multi::ranks_many)); they must be those of this kitchen.
+    pub(crate) fn set_ranks(&self, ranks: Ranks) {
+        let _ = self.ranks.set(ranks);
+    }
+
+    /// Heap bytes of what belongs to this kitchen: its flags and objects and whatever it has
+    /// computed so far (ranks, optima, the `ids` choice); not the shared base.
+    pub fn heap_bytes(&self) -> usize {
+        let mut b = self.in_kitchen.capacity() + 4 * self.kitchen_objects.capacity();
+        if let Some(r) = self.ranks.get() {
+            b += 4 * r.as_slice().len();
+        }
+        for o in self.optima.iter().filter_map(OnceLock::get) {
+            b += 8 * o.cost.capacity() + 4 * o.choice.capacity();
+        }
+        if let Some(c) = self.ids_choice.get() {
+            b += 4 * c.capacity();
+        }
+        b
     }
 
     /// These inputs, recorded as matched at identity `level` (see
@@ -220,29 +248,29 @@ impl Prepared {
     /// Needed inputs of `fu` (after the container rule).
     #[inline]
     pub fn needed(&self, fu: u32) -> &[u32] {
-        self.needed.row(fu)
+        self.base.needed.row(fu)
     }
 
     /// The FUs where `o` is a needed input (one entry per slot).
     #[inline]
     pub(crate) fn needed_by(&self, o: u32) -> &[u32] {
-        self.needed_by.row(o)
+        self.base.needed_by.row(o)
     }
 
     /// Whether a rate table or a default rate was given.
     pub(crate) fn rates_given(&self) -> bool {
-        self.rates_given
+        self.base.rates_given
     }
 
     /// The rate of every FU's motion, NaN when it has none.
     pub(crate) fn fu_rates(&self) -> &[f64] {
-        &self.fu_rate
+        &self.base.fu_rate
     }
 
     /// Success rate of `fu`'s motion (`foon` is the FOON these inputs were prepared for), or
     /// the error naming the motion.
     pub(crate) fn rate(&self, foon: &Foon, fu: u32) -> Result<f64> {
-        let r = self.fu_rate[fu as usize];
+        let r = self.base.fu_rate[fu as usize];
         if r.is_nan() {
             Err(Error::MissingRate {
                 motion: foon.motion_text(fu).to_owned(),
@@ -260,7 +288,7 @@ impl Prepared {
 
     /// Whether every FU's motion has a rate (from the table or the default rate).
     pub(crate) fn all_rated(&self) -> bool {
-        self.all_rated
+        self.base.all_rated
     }
 
     /// The optimum of `objective`, computed by `init` on first use (see [`once`]).
@@ -283,18 +311,154 @@ impl Prepared {
     }
 
     /// The producer order of greedy heuristic `which` (`0..Greedy::COUNT`), computed by
-    /// `init` on first use.
+    /// `init` on first use, once per base (shared by every kitchen prepared on it).
     pub(crate) fn greedy(
         &self,
         which: usize,
         init: impl FnOnce() -> Result<Greedy>,
     ) -> Result<&Greedy> {
-        once(&self.greedy[which], init)
+        once(&self.base.greedy[which], init)
     }
 
     /// Ranks from the kitchen plus the objects marked in `extra`.
     pub(crate) fn ranks_with(&self, foon: &Foon, extra: &[bool]) -> Ranks {
         forward::ranks(foon, self, Some(extra))
+    }
+}
+
+impl PreparedBase {
+    /// The kitchen-independent inputs for `foon` (see [`Prepared::new`] for `utensils`,
+    /// `rates` and `default_rate`): the container rule applied to every FU, the FUs that need
+    /// each object, every FU's rate. Linear in the FOON.
+    pub fn new(
+        foon: &Foon,
+        utensils: &[String],
+        rates: Option<&MotionRates>,
+        default_rate: Option<f64>,
+    ) -> Result<Self> {
+        if let Some(r) = default_rate {
+            check_rate(None, r)?;
+        }
+        let n = foon.object_count();
+        let utensil_ids: FxHashSet<u32> = utensils
+            .iter()
+            .filter_map(|u| foon.strings().get(u))
+            .collect();
+        let needed = needed_inputs(foon, &utensil_ids);
+        let n_fu = foon.fu_count() as u32;
+        let needed_by = Csr::from_pairs(
+            n,
+            (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
+        );
+        let fu_rate: Vec<f64> = (0..n_fu)
+            .map(|f| {
+                rates
+                    .and_then(|r| r.get(foon.motion_text(f)))
+                    .or(default_rate)
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+        let all_rated = fu_rate.iter().all(|r| !r.is_nan());
+        Ok(Self {
+            foon: foon.fingerprint(),
+            key: Self::key_of(utensils, rates, default_rate),
+            object_count: n,
+            needed,
+            needed_by,
+            fu_rate,
+            rates_given: rates.is_some() || default_rate.is_some(),
+            all_rated,
+            greedy: Default::default(),
+        })
+    }
+
+    /// A fixed-width key of the inputs a base is built from besides the FOON, the same on
+    /// every platform: XXH3-128 of the utensils (sorted, each once), the rate table (sorted
+    /// by motion, each rate's bits) and the default rate, every string length-prefixed and
+    /// every number little-endian. Equal inputs give equal keys; the order of the utensils
+    /// and of the table does not matter.
+    pub fn key_of(
+        utensils: &[String],
+        rates: Option<&MotionRates>,
+        default_rate: Option<f64>,
+    ) -> u128 {
+        let mut bytes: Vec<u8> = b"foon-base-1".to_vec();
+        let put_str = |bytes: &mut Vec<u8>, s: &str| {
+            bytes.extend_from_slice(&(s.len() as u64).to_le_bytes());
+            bytes.extend_from_slice(s.as_bytes());
+        };
+        let mut us: Vec<&str> = utensils.iter().map(String::as_str).collect();
+        us.sort_unstable();
+        us.dedup();
+        bytes.extend_from_slice(&(us.len() as u64).to_le_bytes());
+        for u in us {
+            put_str(&mut bytes, u);
+        }
+        match rates {
+            None => bytes.push(0),
+            Some(r) => {
+                bytes.push(1);
+                let mut es: Vec<(&str, f64)> =
+                    r.entries.iter().map(|(m, v)| (m.as_str(), *v)).collect();
+                es.sort_unstable_by(|a, b| a.0.cmp(b.0));
+                bytes.extend_from_slice(&(es.len() as u64).to_le_bytes());
+                for (m, v) in es {
+                    put_str(&mut bytes, m);
+                    bytes.extend_from_slice(&v.to_bits().to_le_bytes());
+                }
+            }
+        }
+        match default_rate {
+            None => bytes.push(0),
+            Some(r) => {
+                bytes.push(1);
+                bytes.extend_from_slice(&r.to_bits().to_le_bytes());
+            }
+        }
+        xxhash_rust::xxh3::xxh3_128(&bytes)
+    }
+
+    /// The key of the utensils, rates and default rate this base was built from
+    /// ([`PreparedBase::key_of`]).
+    pub fn key(&self) -> u128 {
+        self.key
+    }
+
+    /// The content fingerprint of the FOON this base was built for.
+    pub fn foon_fingerprint(&self) -> [u8; 16] {
+        self.foon
+    }
+
+    /// Errors when this base was built for another FOON than `foon`.
+    pub(crate) fn check_foon(&self, foon: &Foon) -> Result<()> {
+        if self.foon != foon.fingerprint() || self.object_count != foon.object_count() {
+            return Err(Error::Invalid(
+                "these planning inputs were prepared for another FOON".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Needed inputs of `fu` (after the container rule).
+    #[inline]
+    pub fn needed(&self, fu: u32) -> &[u32] {
+        self.needed.row(fu)
+    }
+
+    /// The FUs where `o` is a needed input (one entry per slot).
+    #[inline]
+    pub(crate) fn needed_by(&self, o: u32) -> &[u32] {
+        self.needed_by.row(o)
+    }
+
+    /// Heap bytes of the base (what it has computed so far included).
+    pub fn heap_bytes(&self) -> usize {
+        let mut b =
+            self.needed.heap_bytes() + self.needed_by.heap_bytes() + 8 * self.fu_rate.capacity();
+        for g in self.greedy.iter().filter_map(OnceLock::get) {
+            b += g.order.heap_bytes() + 4 * g.first.capacity();
+        }
+        b
     }
 }
 

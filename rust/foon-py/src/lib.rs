@@ -14,6 +14,7 @@ mod kbest;
 mod kitchen;
 mod loaders;
 mod merge;
+mod multi;
 mod plan;
 mod planner;
 mod progress;
@@ -61,6 +62,9 @@ mod _foon {
     use super::synth::{
         synth_goals, synth_kitchen, synth_motions, synth_side, synth_text, synth_write,
     };
+
+    #[pymodule_export]
+    use super::multi::derivable_many;
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
