@@ -30,25 +30,9 @@ from pathlib import Path
 
 import foon
 from foon import _foon
+from scale import fmt_n, fmt_s, parse_size
 
 SEED = 1
-
-
-def parse_size(s: str) -> int:
-    s = s.strip().lower().replace("_", "")
-    mult = {"k": 10**3, "m": 10**6}.get(s[-1:], 1)
-    return int(float(s[:-1]) * mult) if mult > 1 else int(s)
-
-
-def fmt_n(n: int) -> str:
-    for unit, div in (("M", 10**6), ("k", 10**3)):
-        if n >= div and n % div == 0:
-            return f"{n // div}{unit}"
-    return f"{n:,}"
-
-
-def fmt_s(s: float) -> str:
-    return f"{s * 1000:.1f} ms" if s < 1 else f"{s:.2f} s"
 
 
 def best(repeat: int, run: object) -> tuple[float, object]:
