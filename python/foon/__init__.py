@@ -1427,8 +1427,7 @@ class Foon:
         threads: int | None,
         ranks: bool,
     ) -> Any:
-        if isinstance(level, bool) or level not in (1, 2, 3):
-            raise ValueError(f"level must be 1, 2 or 3, not {level!r}")
+        _check_level(level)
         _check_goals(goals)
         if isinstance(kitchens, str | bytes | Kitchen):
             raise TypeError(f"kitchens must be an iterable of kitchens, not {_type(kitchens)}")
@@ -1469,6 +1468,11 @@ class Foon:
         )
 
 
+def _check_level(level: object) -> None:
+    if isinstance(level, bool) or level not in (1, 2, 3):
+        raise ValueError(f"level must be 1, 2 or 3, not {level!r}")
+
+
 def _check_goals(goals: object) -> None:
     if isinstance(goals, str | bytes | Mapping | Object):
         raise TypeError(
@@ -1499,8 +1503,7 @@ class Planner:
     ) -> None:
         if not isinstance(foon, Foon):
             raise TypeError(f"foon must be a Foon, not {_type(foon)}")
-        if isinstance(level, bool) or level not in (1, 2, 3):
-            raise ValueError(f"level must be 1, 2 or 3, not {level!r}")
+        _check_level(level)
         self.level = level
         self.foon = foon
         self.kitchen = _as_kitchen(kitchen)

@@ -29,7 +29,6 @@ pub(super) struct RadixQueue {
     /// `buckets[i]`: entries whose cost first differs from `last` in bit `i` (from 0, the
     /// lowest), as (cost bits, object).
     buckets: Vec<Vec<(u64, u32)>>,
-    len: usize,
 }
 
 impl RadixQueue {
@@ -38,13 +37,11 @@ impl RadixQueue {
             last: 0,
             low: BinaryHeap::new(),
             buckets: (0..64).map(|_| Vec::new()).collect(),
-            len: 0,
         }
     }
 
     #[inline]
     pub(super) fn push(&mut self, e: Entry) {
-        self.len += 1;
         // A cost with its sign bit set (below every other, as `Entry` orders floats) goes
         // with the least ones.
         let k = e.cost.to_bits();
@@ -97,14 +94,13 @@ impl RadixQueue {
     #[inline]
     pub(super) fn pop(&mut self) -> Option<Entry> {
         self.refill();
-        let e = self.low.pop()?;
-        self.len -= 1;
-        Some(e)
+        self.low.pop()
     }
 
+    /// The number of entries (counted, for the tests).
     #[cfg(test)]
     pub(super) fn len(&self) -> usize {
-        self.len
+        self.low.len() + self.buckets.iter().map(Vec::len).sum::<usize>()
     }
 }
 
