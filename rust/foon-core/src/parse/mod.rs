@@ -55,10 +55,12 @@ impl ParseControl<'_> {
         }
     }
 
-    /// Bytes read ahead while the index is fed: a few chunks per thread.
+    /// Bytes read ahead while the index is fed: one chunk per thread (two windows are held
+    /// at once, the one feeding the index and the one being read, so a larger window only
+    /// adds memory: a window's lines take several times its bytes until they are fed).
     fn window(&self) -> usize {
         self.chunk()
-            .saturating_mul(2 * crate::search::batch::max_threads())
+            .saturating_mul(crate::search::batch::max_threads())
     }
 }
 
