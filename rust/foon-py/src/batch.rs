@@ -52,7 +52,7 @@ impl PyKitchenSet {
             .into_iter()
             .map(|(id, a, r)| (id, (*a.inner).clone(), (*r.inner).clone()))
             .collect();
-        let s = KitchenSet::with_deltas(Arc::clone(&base.inner), v).map_err(PyFoonErr)?;
+        let s = KitchenSet::with_deltas(&base.inner, v).map_err(PyFoonErr)?;
         Ok(Self::of(s))
     }
 
@@ -286,8 +286,8 @@ impl Columns {
 
 /// Answers query rows (columns of equal length; `None` for a null field) over `foon` with
 /// the kitchens of `kitchens`, on `threads` threads. Returns the answers as buffers:
-/// (rows, solved bitmap, then (validity, values) for fu_count, height, success, cost,
-/// leaf_count; (offsets, values) for units; (validity, offsets, data) for failure; (list
+/// (rows, solved bitmap, then (validity, values) for `fu_count`, height, success, cost,
+/// `leaf_count`; (offsets, values) for units; (validity, offsets, data) for failure; (list
 /// offsets, string offsets, data) for missing; (validity, offsets, data) for message).
 #[pyfunction]
 #[pyo3(signature = (foon, kitchens, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None))]

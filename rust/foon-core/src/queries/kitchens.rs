@@ -66,14 +66,14 @@ impl KitchenSet {
     /// A set of kitchens each made from `base`: for each id, the base without the items of
     /// its `remove`, then the items of its `add`. A repeated id is an error.
     pub fn with_deltas(
-        base: Arc<Kitchen>,
+        base: &Arc<Kitchen>,
         deltas: impl IntoIterator<Item = (String, Kitchen, Kitchen)>,
     ) -> Result<Self> {
         let mut s = Self::new();
         for (id, add, remove) in deltas {
             let kitchen = Arc::new(base.without(&remove).with(&add)?);
             let delta = Delta {
-                base: Arc::clone(&base),
+                base: Arc::clone(base),
                 add,
                 remove,
             };
@@ -288,7 +288,7 @@ impl KitchenSet {
             }
             deltas.push((id, add, remove));
         }
-        Self::with_deltas(Arc::new(base), deltas)
+        Self::with_deltas(&Arc::new(base), deltas)
     }
 
     /// The set as bytes (for pickling to other processes): a magic, the count, then per
@@ -417,7 +417,7 @@ impl<'a> Bytes<'a> {
 /// 1-based line and character column of byte `at` of `data`.
 fn position(data: &[u8], at: usize) -> (u64, u32) {
     let before = &data[..at.min(data.len())];
-    let line = before.iter().filter(|&&b| b == b'\n').count() as u64 + 1;
+    let line = memchr::memchr_iter(b'\n', before).count() as u64 + 1;
     let start = before
         .iter()
         .rposition(|&b| b == b'\n')

@@ -142,9 +142,9 @@ impl RowOptions {
     /// Reads a row's options: `None`, empty or `null` for none, else a JSON object with any
     /// of [`OPTION_NAMES`] (each may be `null` for its default). `compat`: `"course"` or
     /// `"sound"`; `count`: `"nodes"` or `"ingredients"`; `objective`: `"units"` or
-    /// `"success"`; `level`: 1, 2 or 3; `node_limit`: an integer >= 0; `time_limit`: seconds
-    /// >= 0; `default_rate`: a rate in [0, 1]. The objective and limits are for
-    /// `optimal-shared` only (checked against `method`).
+    /// `"success"`; `level`: 1, 2 or 3; `node_limit`: a non-negative integer; `time_limit`:
+    /// a non-negative number of seconds; `default_rate`: a rate in [0, 1]. The objective and
+    /// limits are for `optimal-shared` only (checked against `method`).
     pub fn parse(text: Option<&str>, method: Method) -> Result<Self> {
         let mut o = Self::default();
         let Some(text) = text
@@ -343,6 +343,9 @@ pub struct RunOptions<'a> {
     pub default_rate: Option<f64>,
 }
 
+/// The group of a row: its kitchen's position, its level and its default rate's bits.
+type GroupKey = (usize, u8, Option<u64>);
+
 /// A checked row: where it goes and what it asks.
 struct Checked {
     group: usize,
@@ -356,7 +359,7 @@ fn check_row(
     set: &KitchenSet,
     row: &QueryRow<'_>,
     default_rate: Option<f64>,
-) -> std::result::Result<((usize, u8, Option<u64>), GoalText, Query, RowOptions), Answer> {
+) -> std::result::Result<(GroupKey, Checked), Box<Answer>> {
     let missing = |f: Failure, what: &str| Answer {
         plan: None,
         failure: Some(f),
@@ -364,33 +367,39 @@ fn check_row(
         message: f.has_message().then(|| format!("no {what}")),
     };
     let Some(kid) = row.kitchen else {
-        return Err(missing(Failure::UnknownKitchen, "kitchen id"));
+        return Err(Box::new(missing(Failure::UnknownKitchen, "kitchen id")));
     };
     let Some(kitchen) = set.position(kid) else {
-        return Err(Answer::failed(
+        return Err(Box::new(Answer::failed(
             Failure::UnknownKitchen,
             &Error::Invalid(format!("unknown kitchen id '{kid}'")),
-        ));
+        )));
     };
     let Some(method) = row.method else {
-        return Err(missing(Failure::UnknownMethod, "method"));
+        return Err(Box::new(missing(Failure::UnknownMethod, "method")));
     };
     let method: Method = method
         .parse()
-        .map_err(|e| Answer::failed(Failure::UnknownMethod, &e))?;
+        .map_err(|e| Box::new(Answer::failed(Failure::UnknownMethod, &e)))?;
     let options = RowOptions::parse(row.options, method)
-        .map_err(|e| Answer::failed(Failure::BadOption, &e))?;
+        .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))?;
     let Some(goal) = row.goal else {
-        return Err(missing(Failure::BadGoal, "goal"));
+        return Err(Box::new(missing(Failure::BadGoal, "goal")));
     };
-    let goal = GoalText::parse(goal).map_err(|e| Answer::failed(Failure::BadGoal, &e))?;
+    let goal = GoalText::parse(goal).map_err(|e| Box::new(Answer::failed(Failure::BadGoal, &e)))?;
     let query = Query {
         method,
         compat: options.compat,
         count: options.count,
     };
     let rate = options.default_rate.or(default_rate).map(f64::to_bits);
-    Ok(((kitchen, options.level, rate), goal, query, options))
+    let checked = Checked {
+        group: usize::MAX,
+        goal,
+        query,
+        options,
+    };
+    Ok(((kitchen, options.level, rate), checked))
 }
 
 /// Prepares the kitchens of one wave: `(base, entry, level)` each, in order. The one place
@@ -450,28 +459,20 @@ pub fn run_queries(
     let never = || false;
     let cancel: &(dyn Fn() -> bool + Sync) = opts.batch.cancel.unwrap_or(&never);
     let mut answers: Vec<Option<Answer>> = Vec::with_capacity(rows.len());
-    let mut groups: Vec<(usize, u8, Option<u64>)> = Vec::new();
-    let mut group_of: FxHashMap<(usize, u8, Option<u64>), usize> = FxHashMap::default();
+    let mut groups: Vec<GroupKey> = Vec::new();
+    let mut group_of: FxHashMap<GroupKey, usize> = FxHashMap::default();
     let mut checked: Vec<(usize, Checked)> = Vec::new();
     for (i, row) in rows.iter().enumerate() {
         match check_row(set, row, opts.default_rate) {
-            Ok((key, goal, query, options)) => {
-                let g = *group_of.entry(key).or_insert_with(|| {
+            Ok((key, mut c)) => {
+                c.group = *group_of.entry(key).or_insert_with(|| {
                     groups.push(key);
                     groups.len() - 1
                 });
-                checked.push((
-                    i,
-                    Checked {
-                        group: g,
-                        goal,
-                        query,
-                        options,
-                    },
-                ));
+                checked.push((i, c));
                 answers.push(None);
             }
-            Err(a) => answers.push(Some(a)),
+            Err(a) => answers.push(Some(*a)),
         }
     }
     // Rows by group (stable: row order within a group).
