@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import pyarrow as pa
+import pyarrow as pa  # type: ignore[import-untyped]
 
 from foon import Foon, _as_rates, _as_utensils, _foon, _type
 from foon._kitchens import KitchenSet
