@@ -5,7 +5,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use foon_core::cache::PreparedCache;
+use foon_core::cache::{CacheLimits, PreparedCache};
 use foon_core::queries::{self, Answer, KitchenSet, QueryRow, RunOptions};
 use foon_core::search::batch::BatchOptions;
 use foon_core::{Kitchen, MotionRates};
@@ -94,13 +94,15 @@ impl PyKitchenSet {
     }
 
     /// The kitchen of `id` (`KeyError` when there is none).
-    fn get(&self, id: &str) -> PyResult<PyKitchen> {
-        self.inner
-            .get(id)
-            .map(|k| PyKitchen {
-                inner: Arc::clone(k),
-            })
-            .ok_or_else(|| PyKeyError::new_err(id.to_owned()))
+    fn get(&self, py: Python<'_>, id: &str) -> PyResult<PyKitchen> {
+        let i = self
+            .inner
+            .position(id)
+            .ok_or_else(|| PyKeyError::new_err(id.to_owned()))?;
+        let e = self.inner.entry(i);
+        Ok(PyKitchen {
+            inner: enter(py, |_| e.kitchen())?,
+        })
     }
 
     /// Whether the kitchen of `id` is a base plus a delta.
@@ -109,13 +111,14 @@ impl PyKitchenSet {
             .inner
             .position(id)
             .ok_or_else(|| PyKeyError::new_err(id.to_owned()))?;
-        Ok(self.inner.entry(i).delta.is_some())
+        Ok(self.inner.entry(i).delta().is_some())
     }
 
     /// The fingerprint of the whole set: 32 hex digits, the same on every machine.
     #[getter]
-    fn fingerprint(&self) -> String {
-        format!("{:032x}", self.inner.fingerprint())
+    fn fingerprint(&self, py: Python<'_>) -> PyResult<String> {
+        let s = &*self.inner;
+        Ok(format!("{:032x}", enter(py, |_| s.fingerprint())?))
     }
 
     /// The set's platform-independent bytes (for pickling).
@@ -135,10 +138,17 @@ impl PyKitchenSet {
     }
 }
 
-/// The process's cache of prepared kitchens, shared by every batch (bounded).
+/// The process's cache of prepared kitchens, shared by every batch: at most 1,024 kitchens
+/// and 256 MiB, 4 bases.
 fn cache() -> &'static PreparedCache {
     static CACHE: OnceLock<PreparedCache> = OnceLock::new();
-    CACHE.get_or_init(PreparedCache::default)
+    CACHE.get_or_init(|| {
+        PreparedCache::new(CacheLimits {
+            max_entries: 1024,
+            max_bytes: 256 << 20,
+            max_bases: 4,
+        })
+    })
 }
 
 /// A validity (or boolean) bitmap, least significant bit first.

@@ -3,7 +3,7 @@
 //! `docs/BATCH.md`, "Formats").
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rustc_hash::FxHashMap;
 use serde::Deserializer as _;
@@ -23,11 +23,57 @@ pub struct Delta {
     pub remove: Kitchen,
 }
 
-/// One kitchen of a set: the kitchen itself and, for a delta kitchen, how it was made.
+/// One kitchen of a set: a kitchen given by its items, or a base plus a delta. A delta
+/// kitchen is built from its base when it is asked for ([`Entry::kitchen`]) and not kept, so a
+/// set of thousands of deltas over one large base costs the base once; its fingerprint is
+/// kept once computed.
 #[derive(Debug, Clone)]
 pub struct Entry {
-    pub kitchen: Arc<Kitchen>,
-    pub delta: Option<Delta>,
+    items: Option<Arc<Kitchen>>,
+    delta: Option<Delta>,
+    fingerprint: OnceLock<u128>,
+}
+
+impl Entry {
+    fn plain(kitchen: Arc<Kitchen>) -> Self {
+        Self {
+            items: Some(kitchen),
+            delta: None,
+            fingerprint: OnceLock::new(),
+        }
+    }
+
+    fn of_delta(delta: Delta) -> Self {
+        Self {
+            items: None,
+            delta: Some(delta),
+            fingerprint: OnceLock::new(),
+        }
+    }
+
+    /// The kitchen (for a delta kitchen: its base without the removed items, then the added
+    /// ones, built now).
+    pub fn kitchen(&self) -> Result<Arc<Kitchen>> {
+        match (&self.items, &self.delta) {
+            (Some(k), _) => Ok(Arc::clone(k)),
+            (None, Some(d)) => Ok(Arc::new(d.base.without(&d.remove).with(&d.add)?)),
+            (None, None) => Ok(Arc::new(Kitchen::new())),
+        }
+    }
+
+    /// [`Kitchen::fingerprint`] of [`Entry::kitchen`] (computed once).
+    pub fn fingerprint(&self) -> Result<u128> {
+        if let Some(f) = self.fingerprint.get() {
+            return Ok(*f);
+        }
+        let f = self.kitchen()?.fingerprint();
+        Ok(*self.fingerprint.get_or_init(|| f))
+    }
+
+    /// The base and delta of a delta kitchen.
+    pub fn delta(&self) -> Option<&Delta> {
+        self.delta.as_ref()
+    }
 }
 
 /// Named kitchens (ids unique, in the order they were given).
@@ -57,7 +103,7 @@ impl KitchenSet {
     ) -> Result<Self> {
         let mut s = Self::new();
         for (id, k) in kitchens {
-            s.push(id, k, None)
+            s.push(id, Entry::plain(k))
                 .map_err(|id| Error::Invalid(format!("kitchen id '{id}' is given twice")))?;
         }
         Ok(s)
@@ -71,31 +117,25 @@ impl KitchenSet {
     ) -> Result<Self> {
         let mut s = Self::new();
         for (id, add, remove) in deltas {
-            let kitchen = Arc::new(base.without(&remove).with(&add)?);
             let delta = Delta {
                 base: Arc::clone(base),
                 add,
                 remove,
             };
-            s.push(id, kitchen, Some(delta))
+            s.push(id, Entry::of_delta(delta))
                 .map_err(|id| Error::Invalid(format!("kitchen id '{id}' is given twice")))?;
         }
         Ok(s)
     }
 
     /// Adds a kitchen; the id back when it is already there.
-    fn push(
-        &mut self,
-        id: String,
-        kitchen: Arc<Kitchen>,
-        delta: Option<Delta>,
-    ) -> std::result::Result<(), String> {
+    fn push(&mut self, id: String, entry: Entry) -> std::result::Result<(), String> {
         if self.index.contains_key(&id) {
             return Err(id);
         }
         self.index.insert(id.clone(), self.ids.len());
         self.ids.push(id);
-        self.entries.push(Entry { kitchen, delta });
+        self.entries.push(entry);
         Ok(())
     }
 
@@ -122,24 +162,24 @@ impl KitchenSet {
         &self.entries[i]
     }
 
-    /// The kitchen of `id`.
-    pub fn get(&self, id: &str) -> Option<&Arc<Kitchen>> {
-        self.position(id).map(|i| &self.entries[i].kitchen)
+    /// The kitchen of `id` (see [`Entry::kitchen`]).
+    pub fn get(&self, id: &str) -> Option<Result<Arc<Kitchen>>> {
+        self.position(id).map(|i| self.entries[i].kitchen())
     }
 
     /// The fingerprint of the whole set: XXH3-128 of a tag, the number of kitchens and, per
     /// kitchen in order, its id (length-prefixed) and [`Kitchen::fingerprint`], all
     /// little-endian (the same on every platform).
-    pub fn fingerprint(&self) -> u128 {
+    pub fn fingerprint(&self) -> Result<u128> {
         let mut b = Vec::with_capacity(32 + self.len() * 40);
         b.extend_from_slice(b"foon-kitchen-set-1");
         b.extend_from_slice(&(self.len() as u64).to_le_bytes());
         for (id, e) in self.ids.iter().zip(&self.entries) {
             b.extend_from_slice(&(id.len() as u64).to_le_bytes());
             b.extend_from_slice(id.as_bytes());
-            b.extend_from_slice(&e.kitchen.fingerprint().to_le_bytes());
+            b.extend_from_slice(&e.fingerprint()?.to_le_bytes());
         }
-        xxhash_rust::xxh3::xxh3_128(&b)
+        Ok(xxhash_rust::xxh3::xxh3_128(&b))
     }
 
     /// Reads a kitchen set: a folder of kitchen files, or a JSON file of either object form.
@@ -173,7 +213,7 @@ impl KitchenSet {
                 .map(|x| x.to_string_lossy().into_owned())
                 .unwrap_or_default();
             let k = Kitchen::load(&p)?;
-            s.push(id, Arc::new(k), None).map_err(|id| {
+            s.push(id, Entry::plain(Arc::new(k))).map_err(|id| {
                 Error::parse(
                     InputKind::Kitchen,
                     Some(&p),
@@ -201,7 +241,7 @@ impl KitchenSet {
             let mut s = Self::new();
             for (id, raw, key_at) in top {
                 let k = kitchen_at(text, raw, path)?;
-                s.push(id, Arc::new(k), None).map_err(|id| {
+                s.push(id, Entry::plain(Arc::new(k))).map_err(|id| {
                     at_error(
                         text,
                         path,
@@ -315,7 +355,11 @@ impl KitchenSet {
             match &e.delta {
                 None => {
                     put_u32(&mut out, u32::MAX);
-                    put_blob(&mut out, &e.kitchen.to_bytes());
+                    let k = e
+                        .items
+                        .as_deref()
+                        .map_or_else(|| Kitchen::new().to_bytes(), Kitchen::to_bytes);
+                    put_blob(&mut out, &k);
                 }
                 Some(d) => {
                     let b = bases.iter().position(|b| Arc::ptr_eq(b, &d.base));
@@ -346,23 +390,21 @@ impl KitchenSet {
                 .map_err(|_| bytes_error("invalid UTF-8"))?
                 .to_owned();
             let tag = r.u32()?;
-            let (kitchen, delta) = if tag == u32::MAX {
-                (Arc::new(Kitchen::from_bytes(r.blob()?)?), None)
+            let entry = if tag == u32::MAX {
+                Entry::plain(Arc::new(Kitchen::from_bytes(r.blob()?)?))
             } else {
                 let base = bases
                     .get(tag as usize)
                     .ok_or_else(|| bytes_error("a base index is out of range"))?;
                 let add = Kitchen::from_bytes(r.blob()?)?;
                 let remove = Kitchen::from_bytes(r.blob()?)?;
-                let k = Arc::new(base.without(&remove).with(&add)?);
-                let d = Delta {
+                Entry::of_delta(Delta {
                     base: Arc::clone(base),
                     add,
                     remove,
-                };
-                (k, Some(d))
+                })
             };
-            s.push(id, kitchen, delta)
+            s.push(id, entry)
                 .map_err(|_| bytes_error("a kitchen id is repeated"))?;
         }
         if !r.0.is_empty() {

@@ -6,7 +6,7 @@
 //! - [`run_queries`] checks every row first: a row it cannot plan (unknown kitchen or method,
 //!   bad options or goal) becomes an [`Answer`] with its [`Failure`], never an error of the
 //!   batch. The other rows are grouped by (kitchen, level, default rate); the groups are
-//!   prepared [`WAVE`] at a time by [`prepare_kitchen`] (through the [`PreparedCache`], the
+//!   prepared a wave at a time ([`wave_size`], at most 64) by [`prepare_kitchen`] (through the [`PreparedCache`], the
 //!   kitchens the cache lacks in one 64-lane pass of [`prepare_many`]), then their rows are
 //!   planned on the crate's batch thread pool (the policy of [`crate::search::batch`]:
 //!   threads, `FOON_THREADS`, cancel). Only one wave's prepared kitchens are held at a time.
@@ -33,8 +33,19 @@ use crate::prepare::{Prepared, PreparedBase};
 use crate::search::batch::{BatchOptions, in_pool};
 use crate::search::{Compat, Context, Count, Method, Plan, Query, SharedObjective, SharedOptions};
 
-/// How many kitchens are prepared and held at once (one lane pass of [`prepare_many`]).
+/// How many kitchens are prepared and held at once at most (one lane pass of
+/// [`prepare_many`]).
 pub const WAVE: usize = 64;
+
+/// The bytes a wave's prepared kitchens may take, about: a wave holds fewer than [`WAVE`]
+/// kitchens when the FOON is large ([`wave_size`]).
+pub const WAVE_BYTES: usize = 256 << 20;
+
+/// How many kitchens a wave holds over `foon`: [`WAVE`], or fewer so that their flags and
+/// ranks (about 8 bytes per object each) stay within [`WAVE_BYTES`]; at least 1.
+pub fn wave_size(foon: &Foon) -> usize {
+    (WAVE_BYTES / (8 * foon.object_count()).max(1)).clamp(1, WAVE)
+}
 
 /// Why a query row has no tree (the codes of `docs/BATCH.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -413,13 +424,18 @@ pub fn prepare_kitchen(
     wave: &[(Arc<PreparedBase>, &Entry, u8)],
     opts: &BatchOptions<'_>,
 ) -> Result<Vec<Arc<Prepared>>> {
-    let key = |(b, e, l): &(Arc<PreparedBase>, &Entry, u8)| CacheKey {
-        foon: foon.fingerprint(),
-        base: b.key(),
-        kitchen: e.kitchen.fingerprint(),
-        level: *l,
-    };
-    let mut out: Vec<Option<Arc<Prepared>>> = wave.iter().map(|w| cache.get(&key(w))).collect();
+    let keys: Vec<CacheKey> = wave
+        .iter()
+        .map(|(b, e, l)| {
+            Ok(CacheKey {
+                foon: foon.fingerprint(),
+                base: b.key(),
+                kitchen: e.fingerprint()?,
+                level: *l,
+            })
+        })
+        .collect::<Result<_>>()?;
+    let mut out: Vec<Option<Arc<Prepared>>> = keys.iter().map(|k| cache.get(k)).collect();
     // The misses, by base.
     let mut by_base: FxHashMap<u128, Vec<usize>> = FxHashMap::default();
     for (i, w) in wave.iter().enumerate() {
@@ -432,13 +448,13 @@ pub fn prepare_kitchen(
     for (_, idx) in bases {
         let ids: Vec<Vec<u32>> = idx
             .iter()
-            .map(|&i| wave[i].1.kitchen.match_at_level(foon, wave[i].2))
+            .map(|&i| wave[i].1.kitchen()?.match_at_level(foon, wave[i].2))
             .collect::<Result<_>>()?;
         let refs: Vec<&[u32]> = ids.iter().map(Vec::as_slice).collect();
         let prepared = prepare_many(foon, &wave[idx[0]].0, &refs, opts)?;
         for (&i, p) in idx.iter().zip(prepared) {
             let p = p.at_level(wave[i].2);
-            out[i] = Some(cache.get_or_prepare(key(&wave[i]), || Ok(p))?);
+            out[i] = Some(cache.get_or_prepare(keys[i], || Ok(p))?);
         }
     }
     out.into_iter()
@@ -478,11 +494,12 @@ pub fn run_queries(
     // Rows by group (stable: row order within a group).
     checked.sort_by_key(|(_, c)| c.group);
     let mut start = 0;
-    for wave_lo in (0..groups.len()).step_by(WAVE) {
+    let wave_len = wave_size(foon);
+    for wave_lo in (0..groups.len()).step_by(wave_len) {
         if cancel() {
             return Err(Error::Cancelled);
         }
-        let wave_hi = (wave_lo + WAVE).min(groups.len());
+        let wave_hi = (wave_lo + wave_len).min(groups.len());
         let end = start + checked[start..].partition_point(|(_, c)| c.group < wave_hi);
         let rows_here = &checked[start..end];
         start = end;
