@@ -3,6 +3,7 @@
 //! `run_queries` equal to planning its row alone, for 1 and 2 threads, on generated FOONs
 //! (cycles, self-loops, duplicate units) and on the course FOON; bad rows as failure codes.
 
+use std::fmt::Write as _;
 use std::sync::Arc;
 
 use foon_core::cache::PreparedCache;
@@ -503,10 +504,11 @@ fn many_waves_of_kitchens_and_delta_kitchens() {
     // some kitchens only; 150 kitchens take three waves of 64.
     let mut text = String::new();
     for i in 0..11 {
-        text.push_str(&format!(
-            "O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{}\n//\n",
+        let _ = writeln!(
+            text,
+            "O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{}\n//",
             i + 1
-        ));
+        );
     }
     let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
     let item = |i: usize| format!(r#"[{{"label": "item", "states": ["s{i}"]}}]"#);
