@@ -547,40 +547,22 @@ pub fn run_queries(
         };
         let slots: Vec<OnceLock<Result<Answer>>> =
             rows_here.iter().map(|_| OnceLock::new()).collect();
-        let n_workers = workers.min(rows_here.len()).max(1);
-        if n_workers <= 1 {
-            for (slot, (_, c)) in slots.iter().zip(rows_here) {
-                if cancel() {
-                    return Err(Error::Cancelled);
-                }
-                let _ = slot.set(one(c));
+        // What a prepared kitchen computes on first use (ranks, optima, the choices of
+        // `ids`) is computed by the first row of each (kitchen, query) alone: those rows run
+        // first, so that two workers do not compute the same thing for one kitchen at once.
+        let mut seen = rustc_hash::FxHashSet::default();
+        let (mut leaders, mut followers) = (Vec::new(), Vec::new());
+        for (j, (_, c)) in rows_here.iter().enumerate() {
+            if seen.insert((c.group, c.query)) {
+                leaders.push(j);
+            } else {
+                followers.push(j);
             }
-        } else {
-            let next = AtomicUsize::new(0);
-            let stop = AtomicBool::new(false);
-            let work = || {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= rows_here.len() || stop.load(Ordering::Relaxed) {
-                        break;
-                    }
-                    let r = if cancel() {
-                        Err(Error::Cancelled)
-                    } else {
-                        one(&rows_here[i].1)
-                    };
-                    if r.is_err() {
-                        stop.store(true, Ordering::Relaxed);
-                    }
-                    let _ = slots[i].set(r);
-                }
-            };
-            in_pool(|| {
-                rayon::scope(|s| {
-                    for _ in 0..n_workers {
-                        s.spawn(|_| work());
-                    }
-                });
+        }
+        for phase in [leaders, followers] {
+            plan_rows(&phase, workers, cancel, &|j| {
+                let _ = slots[j].set(one(&rows_here[j].1));
+                slots[j].get().is_some_and(Result::is_ok)
             })?;
         }
         for (slot, (i, _)) in slots.into_iter().zip(rows_here) {
@@ -595,6 +577,59 @@ pub fn run_queries(
         .into_iter()
         .map(|a| a.ok_or_else(|| Error::Invalid("a query row was not answered".into())))
         .collect()
+}
+
+/// Runs `run` for every index of `items`, on up to `workers` workers of the batch pool (on
+/// this thread for one), until `run` answers false (its row failed: the batch stops) or
+/// `cancel` answers true ([`Error::Cancelled`]).
+fn plan_rows(
+    items: &[usize],
+    workers: usize,
+    cancel: &(dyn Fn() -> bool + Sync),
+    run: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<()> {
+    let n_workers = workers.min(items.len()).max(1);
+    if n_workers <= 1 {
+        for &j in items {
+            if cancel() {
+                return Err(Error::Cancelled);
+            }
+            if !run(j) {
+                break;
+            }
+        }
+        return Ok(());
+    }
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let cancelled = AtomicBool::new(false);
+    let work = || {
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= items.len() || stop.load(Ordering::Relaxed) {
+                break;
+            }
+            if cancel() {
+                cancelled.store(true, Ordering::Relaxed);
+                stop.store(true, Ordering::Relaxed);
+                break;
+            }
+            if !run(items[i]) {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+    };
+    in_pool(|| {
+        rayon::scope(|s| {
+            for _ in 0..n_workers {
+                s.spawn(|_| work());
+            }
+        });
+    })?;
+    if cancelled.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
+    }
+    Ok(())
 }
 
 /// Plans one checked row on its prepared kitchen.
