@@ -250,13 +250,21 @@ impl GoalText {
         }
     }
 
+    /// The goal's object in `foon` at level 3 ([`Foon::goal_by_label`] or
+    /// [`Foon::goal_by_spec`]), which does not depend on the kitchen.
+    pub fn resolve_by_identity(&self, foon: &Foon) -> Result<u32> {
+        match self {
+            Self::Label(l) => foon.goal_by_label(l),
+            Self::Object(s) => foon.goal_by_spec(s),
+        }
+    }
+
     /// The goal's object in `ctx`'s FOON, matched at `level` (3: [`Foon::goal_by_label`] or
     /// [`Foon::goal_by_spec`]; below 3: [`crate::levels::goal_at_level`], a label standing
     /// for the label-only object).
     pub fn resolve(&self, ctx: &Context<'_>, level: u8) -> Result<u32> {
         match (self, level) {
-            (Self::Label(l), 3) => ctx.foon.goal_by_label(l),
-            (Self::Object(s), 3) => ctx.foon.goal_by_spec(s),
+            (_, 3) => self.resolve_by_identity(ctx.foon),
             (Self::Label(l), _) => {
                 let s = ObjectSpec {
                     label: l.clone(),
@@ -361,6 +369,8 @@ type GroupKey = (usize, u8, Option<u64>);
 struct Checked {
     group: usize,
     goal: GoalText,
+    /// The goal's object, when it does not depend on the kitchen (level 3).
+    goal_id: Option<u32>,
     query: Query,
     options: RowOptions,
 }
@@ -407,6 +417,7 @@ fn check_row(
     let checked = Checked {
         group: usize::MAX,
         goal,
+        goal_id: None,
         query,
         options,
     };
@@ -478,9 +489,26 @@ pub fn run_queries(
     let mut groups: Vec<GroupKey> = Vec::new();
     let mut group_of: FxHashMap<GroupKey, usize> = FxHashMap::default();
     let mut checked: Vec<(usize, Checked)> = Vec::new();
+    // At level 3 a goal does not depend on the kitchen: each distinct goal text is resolved
+    // once, and a row whose goal is not found needs no kitchen.
+    let mut resolved: FxHashMap<&str, std::result::Result<u32, Box<Answer>>> = FxHashMap::default();
     for (i, row) in rows.iter().enumerate() {
         match check_row(set, row, opts.default_rate) {
             Ok((key, mut c)) => {
+                if let (3, Some(text)) = (c.options.level, row.goal) {
+                    let r = resolved.entry(text).or_insert_with(|| {
+                        c.goal
+                            .resolve_by_identity(foon)
+                            .map_err(|e| Box::new(Answer::of_error(&e)))
+                    });
+                    match r {
+                        Ok(g) => c.goal_id = Some(*g),
+                        Err(a) => {
+                            answers.push(Some((**a).clone()));
+                            continue;
+                        }
+                    }
+                }
                 c.group = *group_of.entry(key).or_insert_with(|| {
                     groups.push(key);
                     groups.len() - 1
@@ -642,7 +670,10 @@ fn answer(
     let ctx = Context::with(foon, prep)?
         .with_cancel(cancel)
         .with_shared(c.options.shared);
-    let goal = match c.goal.resolve(&ctx, c.options.level) {
+    let goal = match c
+        .goal_id
+        .map_or_else(|| c.goal.resolve(&ctx, c.options.level), Ok)
+    {
         Ok(g) => g,
         Err(Error::Cancelled) => return Err(Error::Cancelled),
         Err(e) => return Ok(Answer::of_error(&e)),
