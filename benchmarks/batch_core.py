@@ -12,7 +12,11 @@ would, in two orders: as drawn (each chunk touches most kitchens) and sorted by 
 chunk touches few). For each order, 1 and 2 threads run side by side in one process,
 alternating, best of `--repeat`, after a first run that is not timed (the process's cache of
 prepared kitchens then holds what fits in it, for every timed run alike). Every run gives the same table
-(checked). Prints a Markdown table and the command.
+(checked). With `--baseline`, the same rows are also planned the way a caller would without
+batches: one `Planner` per kitchen (built before the clock starts, as the batch's cache holds
+its prepared kitchens) and `Planner.plan_many` over each kitchen's rows, one method at a time:
+the ratio is what the batch layer (Arrow columns, row checks, grouping) costs or saves.
+Prints a Markdown table and the command.
 """
 
 from __future__ import annotations
@@ -54,6 +58,7 @@ def main() -> None:
     ap.add_argument("--chunk", type=int, default=10_000)
     ap.add_argument("--methods", default="ids")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--baseline", action="store_true")
     ap.add_argument("--work")
     args = ap.parse_args()
     work = Path(args.work or tempfile.mkdtemp(prefix="foon-batch-"))
@@ -89,6 +94,23 @@ def main() -> None:
                       enumerate(("query_id", "kitchen_id", "goal", "method"))})  # fmt: skip
     grouped = drawn.take(pa.array(sorted(range(count), key=lambda i: rows[i][1])))
     out = []
+    base_best = {1: float("inf"), 2: float("inf")}
+    if args.baseline:
+        planners = {k: f.planner(ks[k]) for k in ks.ids}
+        by_kitchen: dict[tuple[str, str], list[foon.Object]] = {}
+        objects = {t: foon.Object.from_dict(json.loads(t)) for t in goal_texts}
+        for _, kid, goal, method in rows:
+            by_kitchen.setdefault((kid, method), []).append(objects[goal])
+        for p in planners.values():
+            p.plan_many(list(objects.values()), methods[0], threads=1)
+        for _ in range(args.repeat):
+            for threads in (1, 2):
+                t = time.perf_counter()
+                for (kid, method), gs in by_kitchen.items():
+                    planners[kid].plan_many(gs, method, threads=threads)
+                s = time.perf_counter() - t
+                base_best[threads] = min(base_best[threads], s)
+                print(f"[plan_many, {threads} thread(s): {fmt_s(s)}]", file=sys.stderr, flush=True)
     for order, q in (("as drawn", drawn), ("sorted by kitchen", grouped)):
         best = {1: float("inf"), 2: float("inf")}
         want = run(f, ks, q, args.chunk, 2)[1]  # a first run, not timed: the cache filled
@@ -107,6 +129,8 @@ def main() -> None:
     )
     print("| order | solved | 1 thread | 2 threads | queries/s, 1 | queries/s, 2 | 2 / 1 |")
     print("|---|---|---|---|---|---|---|")
+    if args.baseline:
+        out.insert(0, ("plan_many per kitchen (baseline)", base_best, out[0][2]))
     for order, best, solved in out:
         print(
             f"| {order} | {solved:,} | {fmt_s(best[1])} | {fmt_s(best[2])} | "
@@ -116,7 +140,7 @@ def main() -> None:
     print(
         f"\nCommand: `python benchmarks/batch_core.py --units {args.units} --queries "
         f"{args.queries} --kitchens {args.kitchens} --chunk {args.chunk} --methods "
-        f"{args.methods}`"
+        f"{args.methods}{' --baseline' if args.baseline else ''}`"
     )
 
 
