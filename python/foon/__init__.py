@@ -51,6 +51,7 @@ if TYPE_CHECKING:
 
     from foon._explain import GoalExplanation, Similar
     from foon._kbest import RankedTree
+    from foon._kitchens import KitchenSet
     from foon._merge import MergeReport, load_merged, merge, merge_report
     from foon._split import Profile, Profiles, SplitResult
     from foon._synth import (
@@ -81,6 +82,7 @@ __all__ = [
     "GoalExplanation",
     "GoalNotFoundError",
     "Kitchen",
+    "KitchenSet",
     "MergeReport",
     "MissingRateError",
     "MotionRates",
@@ -128,6 +130,7 @@ _LAZY: dict[str, str] = {
     "RankedTree": "foon._kbest",
     **dict.fromkeys(("GoalExplanation", "Similar"), "foon._explain"),
     **dict.fromkeys(("Profile", "Profiles", "SplitResult"), "foon._split"),
+    "KitchenSet": "foon._kitchens",
 }
 
 

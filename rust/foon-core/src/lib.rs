@@ -47,3 +47,7 @@ pub use search::{
     Compat, Context, Count, Explanation, Method, Plan, Query, SharedObjective, SharedOptions,
 };
 pub use search::{kbest::KBest, paths::Paths};
+
+// Queries in, results out: named kitchens and batches of query rows.
+pub mod queries;
+pub use queries::KitchenSet;

@@ -22,6 +22,8 @@ mod serial;
 mod split;
 mod synth;
 mod writers;
+// Queries in, results out.
+mod batch;
 
 #[pyo3::pymodule]
 mod _foon {
@@ -68,6 +70,9 @@ mod _foon {
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
+
+    #[pymodule_export]
+    use super::batch::{PyKitchenSet, failure_codes, plan_queries};
 
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {

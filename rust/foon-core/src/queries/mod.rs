@@ -1,0 +1,686 @@
+//! Queries in, results out: many (kitchen, goal, method) questions over one FOON in one call.
+//!
+//! - A [`KitchenSet`] names the kitchens; a [`QueryRow`] names a kitchen, a goal (a JSON
+//!   object or a label, resolved by the rules of `foon plan --goal/--label`), a method (any
+//!   name of [`Method`]) and options (a JSON object, see [`RowOptions`]).
+//! - [`run_queries`] checks every row first: a row it cannot plan (unknown kitchen or method,
+//!   bad options or goal) becomes an [`Answer`] with its [`Failure`], never an error of the
+//!   batch. The other rows are grouped by (kitchen, level, default rate); the groups are
+//!   prepared a wave at a time ([`wave_size`], at most 64) by [`prepare_kitchen`] (through the [`PreparedCache`], the
+//!   kitchens the cache lacks in one 64-lane pass of [`prepare_many`]), then their rows are
+//!   planned on the crate's batch thread pool (the policy of [`crate::search::batch`]:
+//!   threads, `FOON_THREADS`, cancel). Only one wave's prepared kitchens are held at a time.
+//! - Answers are in row order and identical for every thread count (a `time_limit` aside).
+//!   The only errors of the batch are a cancelled batch and a bad thread count.
+//!
+//! The formats (kitchen sets, query rows, options, failure codes) are in `docs/BATCH.md`.
+
+mod kitchens;
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
+
+use rustc_hash::FxHashMap;
+
+pub use kitchens::{Delta, Entry, KitchenSet};
+
+use crate::cache::{CacheKey, PreparedCache};
+use crate::error::{Error, InputKind, Result};
+use crate::index::Foon;
+use crate::model::{MotionRates, ObjectSpec, check_rate};
+use crate::multi::prepare_many;
+use crate::prepare::{Prepared, PreparedBase};
+use crate::search::batch::{BatchOptions, in_pool};
+use crate::search::{Compat, Context, Count, Method, Plan, Query, SharedObjective, SharedOptions};
+
+/// How many kitchens are prepared and held at once at most (one lane pass of
+/// [`prepare_many`]).
+pub const WAVE: usize = 64;
+
+/// The bytes a wave's prepared kitchens may take, about: a wave holds fewer than [`WAVE`]
+/// kitchens when the FOON is large ([`wave_size`]).
+pub const WAVE_BYTES: usize = 256 << 20;
+
+/// How many kitchens a wave holds over `foon`: [`WAVE`], or fewer so that their flags and
+/// ranks (about 8 bytes per object each) stay within [`WAVE_BYTES`]; at least 1.
+pub fn wave_size(foon: &Foon) -> usize {
+    (WAVE_BYTES / (8 * foon.object_count()).max(1)).clamp(1, WAVE)
+}
+
+/// Why a query row has no tree (the codes of `docs/BATCH.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Failure {
+    GoalNotFound,
+    GoalAmbiguous,
+    BadGoal,
+    UnknownKitchen,
+    UnknownMethod,
+    BadOption,
+    NotDerivable,
+    Cycle,
+    Unresolved,
+    MissingRate,
+    Error,
+}
+
+impl Failure {
+    pub const ALL: [Failure; 11] = [
+        Self::GoalNotFound,
+        Self::GoalAmbiguous,
+        Self::BadGoal,
+        Self::UnknownKitchen,
+        Self::UnknownMethod,
+        Self::BadOption,
+        Self::NotDerivable,
+        Self::Cycle,
+        Self::Unresolved,
+        Self::MissingRate,
+        Self::Error,
+    ];
+
+    /// The code results carry.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::GoalNotFound => "goal-not-found",
+            Self::GoalAmbiguous => "goal-ambiguous",
+            Self::BadGoal => "bad-goal",
+            Self::UnknownKitchen => "unknown-kitchen",
+            Self::UnknownMethod => "unknown-method",
+            Self::BadOption => "bad-option",
+            Self::NotDerivable => "not-derivable",
+            Self::Cycle => "cycle",
+            Self::Unresolved => "unresolved",
+            Self::MissingRate => "missing-rate",
+            Self::Error => "error",
+        }
+    }
+
+    /// Whether the answer keeps the error's text as its message.
+    pub fn has_message(self) -> bool {
+        matches!(
+            self,
+            Self::BadGoal | Self::BadOption | Self::Error | Self::MissingRate
+        )
+    }
+}
+
+/// One question: the kitchen's id, the goal (a JSON object or a label), the method's name,
+/// and the options (`None`, empty, `null`, or a JSON object). `None` for a field is a bad row.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct QueryRow<'a> {
+    pub kitchen: Option<&'a str>,
+    pub goal: Option<&'a str>,
+    pub method: Option<&'a str>,
+    pub options: Option<&'a str>,
+}
+
+/// The options of one row (the same meanings as `Foon.plan`'s arguments).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RowOptions {
+    pub compat: Compat,
+    pub count: Count,
+    pub shared: SharedOptions,
+    /// The identity level (1, 2 or 3).
+    pub level: u8,
+    /// A default rate for this row, replacing the batch's.
+    pub default_rate: Option<f64>,
+}
+
+impl Default for RowOptions {
+    fn default() -> Self {
+        Self {
+            compat: Compat::Sound,
+            count: Count::Nodes,
+            shared: SharedOptions::default(),
+            level: 3,
+            default_rate: None,
+        }
+    }
+}
+
+/// The option names a row may give.
+pub const OPTION_NAMES: [&str; 7] = [
+    "compat",
+    "count",
+    "objective",
+    "level",
+    "node_limit",
+    "time_limit",
+    "default_rate",
+];
+
+impl RowOptions {
+    /// Reads a row's options: `None`, empty or `null` for none, else a JSON object with any
+    /// of [`OPTION_NAMES`] (each may be `null` for its default). `compat`: `"course"` or
+    /// `"sound"`; `count`: `"nodes"` or `"ingredients"`; `objective`: `"units"` or
+    /// `"success"`; `level`: 1, 2 or 3; `node_limit`: a non-negative integer; `time_limit`:
+    /// a non-negative number of seconds; `default_rate`: a rate in [0, 1]. The objective and
+    /// limits are for `optimal-shared` only (checked against `method`).
+    pub fn parse(text: Option<&str>, method: Method) -> Result<Self> {
+        let mut o = Self::default();
+        let Some(text) = text
+            .map(str::trim)
+            .filter(|t| !t.is_empty() && *t != "null")
+        else {
+            return Ok(o);
+        };
+        let bad = |m: String| Error::Invalid(m);
+        let v: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| bad(format!("options are not valid JSON: {e}")))?;
+        let serde_json::Value::Object(map) = v else {
+            return Err(bad(format!("options must be a JSON object, not {text}")));
+        };
+        let string = |k: &str, v: &serde_json::Value| {
+            v.as_str()
+                .map(str::to_owned)
+                .ok_or_else(|| bad(format!("option '{k}' must be a string, not {v}")))
+        };
+        for (k, v) in &map {
+            if v.is_null() {
+                if !OPTION_NAMES.contains(&k.as_str()) {
+                    return Err(unknown_option(k));
+                }
+                continue;
+            }
+            match k.as_str() {
+                "compat" => o.compat = string(k, v)?.parse()?,
+                "count" => o.count = string(k, v)?.parse()?,
+                "objective" => o.shared.objective = string(k, v)?.parse::<SharedObjective>()?,
+                "level" => {
+                    o.level = match v.as_u64() {
+                        Some(l @ 1..=3) => l as u8,
+                        _ => return Err(bad(format!("option 'level' must be 1, 2 or 3, not {v}"))),
+                    }
+                }
+                "node_limit" => {
+                    o.shared.node_limit = Some(v.as_u64().ok_or_else(|| {
+                        bad(format!(
+                            "option 'node_limit' must be an integer >= 0, not {v}"
+                        ))
+                    })?);
+                }
+                "time_limit" => {
+                    o.shared.time_limit = Some(v.as_f64().ok_or_else(|| {
+                        bad(format!(
+                            "option 'time_limit' must be a number of seconds, not {v}"
+                        ))
+                    })?);
+                }
+                "default_rate" => {
+                    let r = v.as_f64().ok_or_else(|| {
+                        bad(format!("option 'default_rate' must be a number, not {v}"))
+                    })?;
+                    o.default_rate = Some(check_rate(None, r)?);
+                }
+                _ => return Err(unknown_option(k)),
+            }
+        }
+        o.shared.check_for(method)?;
+        Ok(o)
+    }
+}
+
+fn unknown_option(k: &str) -> Error {
+    Error::Invalid(format!(
+        "unknown option '{k}' (choose from {})",
+        OPTION_NAMES.join(", ")
+    ))
+}
+
+/// A goal as a row gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GoalText {
+    /// A label that one object has.
+    Label(String),
+    /// An object's fields.
+    Object(ObjectSpec),
+}
+
+impl GoalText {
+    /// Reads a row's goal: a JSON object (the text starts with `{`, read by the goal loader
+    /// of `foon plan --goal`, one object), else a label.
+    pub fn parse(text: &str) -> Result<Self> {
+        if !text.trim_start().starts_with('{') {
+            return Ok(Self::Label(text.to_owned()));
+        }
+        let mut v = crate::parse::parse_objects(text.as_bytes(), None, InputKind::Goal)?;
+        match v.len() {
+            1 => Ok(Self::Object(v.remove(0))),
+            n => Err(Error::Invalid(format!("a goal is one object, not {n}"))),
+        }
+    }
+
+    /// The goal's object in `foon` at level 3 ([`Foon::goal_by_label`] or
+    /// [`Foon::goal_by_spec`]), which does not depend on the kitchen.
+    pub fn resolve_by_identity(&self, foon: &Foon) -> Result<u32> {
+        match self {
+            Self::Label(l) => foon.goal_by_label(l),
+            Self::Object(s) => foon.goal_by_spec(s),
+        }
+    }
+
+    /// The goal's object in `ctx`'s FOON, matched at `level` (3: [`Foon::goal_by_label`] or
+    /// [`Foon::goal_by_spec`]; below 3: [`crate::levels::goal_at_level`], a label standing
+    /// for the label-only object).
+    pub fn resolve(&self, ctx: &Context<'_>, level: u8) -> Result<u32> {
+        match (self, level) {
+            (_, 3) => self.resolve_by_identity(ctx.foon),
+            (Self::Label(l), _) => {
+                let s = ObjectSpec {
+                    label: l.clone(),
+                    ..ObjectSpec::default()
+                };
+                crate::levels::goal_at_level(ctx, &s, level)
+            }
+            (Self::Object(s), _) => crate::levels::goal_at_level(ctx, s, level),
+        }
+    }
+}
+
+/// The answer to one row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Answer {
+    /// The plan, when the row was planned (solved or not).
+    pub plan: Option<Plan>,
+    /// `None` when solved.
+    pub failure: Option<Failure>,
+    /// The missing items (not derivable), or the unresolved inputs (course methods), each
+    /// described on one line ([`ObjectSpec::describe`]).
+    pub missing: Vec<String>,
+    /// The text of an `error`, `missing-rate` or `bad-*` failure.
+    pub message: Option<String>,
+}
+
+impl Answer {
+    fn failed(failure: Failure, e: &Error) -> Self {
+        Self {
+            plan: None,
+            failure: Some(failure),
+            missing: Vec::new(),
+            message: failure.has_message().then(|| e.to_string()),
+        }
+    }
+
+    /// Whether a tree was found.
+    pub fn solved(&self) -> bool {
+        self.failure.is_none()
+    }
+
+    /// The solved plan.
+    pub fn solved_plan(&self) -> Option<&Plan> {
+        self.plan.as_ref().filter(|p| p.solved)
+    }
+
+    /// The answer to a planned row.
+    fn of_plan(foon: &Foon, plan: Plan) -> Self {
+        let describe = |ids: &[u32]| -> Vec<String> {
+            ids.iter()
+                .map(|&o| ObjectSpec::of_object(foon, o).describe())
+                .collect()
+        };
+        let (failure, missing) = if plan.solved {
+            (None, Vec::new())
+        } else if plan.query.compat == Compat::Course {
+            (Some(Failure::Unresolved), describe(&plan.unresolved))
+        } else {
+            let e = plan.explanation.as_ref();
+            let missing = e.map(|e| describe(&e.missing)).unwrap_or_default();
+            if e.is_some_and(|e| !e.cycle.is_empty()) {
+                (Some(Failure::Cycle), missing)
+            } else {
+                (Some(Failure::NotDerivable), missing)
+            }
+        };
+        Self {
+            plan: Some(plan),
+            failure,
+            missing,
+            message: None,
+        }
+    }
+
+    /// The answer to a row whose planning failed with `e`.
+    fn of_error(e: &Error) -> Self {
+        let f = match e {
+            Error::GoalNotFound { .. } => Failure::GoalNotFound,
+            Error::GoalAmbiguous { .. } => Failure::GoalAmbiguous,
+            Error::MissingRate { .. } => Failure::MissingRate,
+            _ => Failure::Error,
+        };
+        Self::failed(f, e)
+    }
+}
+
+/// How a batch of queries runs.
+#[derive(Clone, Copy, Default)]
+pub struct RunOptions<'a> {
+    /// Threads and cancel callback (the policy of [`crate::search::batch`]).
+    pub batch: BatchOptions<'a>,
+    pub utensils: &'a [String],
+    pub rates: Option<&'a MotionRates>,
+    /// The default rate of rows whose options give none.
+    pub default_rate: Option<f64>,
+}
+
+/// The group of a row: its kitchen's position, its level and its default rate's bits.
+type GroupKey = (usize, u8, Option<u64>);
+
+/// A checked row: where it goes and what it asks.
+struct Checked {
+    group: usize,
+    goal: GoalText,
+    /// The goal's object, when it does not depend on the kitchen (level 3).
+    goal_id: Option<u32>,
+    query: Query,
+    options: RowOptions,
+}
+
+/// Checks one row: its group key (kitchen position, level, default rate) and what it asks.
+fn check_row(
+    set: &KitchenSet,
+    row: &QueryRow<'_>,
+    default_rate: Option<f64>,
+) -> std::result::Result<(GroupKey, Checked), Box<Answer>> {
+    let missing = |f: Failure, what: &str| Answer {
+        plan: None,
+        failure: Some(f),
+        missing: Vec::new(),
+        message: f.has_message().then(|| format!("no {what}")),
+    };
+    let Some(kid) = row.kitchen else {
+        return Err(Box::new(missing(Failure::UnknownKitchen, "kitchen id")));
+    };
+    let Some(kitchen) = set.position(kid) else {
+        return Err(Box::new(Answer::failed(
+            Failure::UnknownKitchen,
+            &Error::Invalid(format!("unknown kitchen id '{kid}'")),
+        )));
+    };
+    let Some(method) = row.method else {
+        return Err(Box::new(missing(Failure::UnknownMethod, "method")));
+    };
+    let method: Method = method
+        .parse()
+        .map_err(|e| Box::new(Answer::failed(Failure::UnknownMethod, &e)))?;
+    let options = RowOptions::parse(row.options, method)
+        .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))?;
+    let Some(goal) = row.goal else {
+        return Err(Box::new(missing(Failure::BadGoal, "goal")));
+    };
+    let goal = GoalText::parse(goal).map_err(|e| Box::new(Answer::failed(Failure::BadGoal, &e)))?;
+    let query = Query {
+        method,
+        compat: options.compat,
+        count: options.count,
+    };
+    let rate = options.default_rate.or(default_rate).map(f64::to_bits);
+    let checked = Checked {
+        group: usize::MAX,
+        goal,
+        goal_id: None,
+        query,
+        options,
+    };
+    Ok(((kitchen, options.level, rate), checked))
+}
+
+/// Prepares the kitchens of one wave: `(base, entry, level)` each, in order. The one place
+/// kitchens of a batch are prepared: through `cache` (keyed by the FOON's, the base's and
+/// the kitchen's fingerprints and the level), the kitchens the cache lacks in one 64-lane
+/// pass per base ([`prepare_many`]). A delta kitchen is prepared here from its own items;
+/// an incremental preparation from its base's would be swapped in here.
+pub fn prepare_kitchen(
+    foon: &Foon,
+    cache: &PreparedCache,
+    wave: &[(Arc<PreparedBase>, &Entry, u8)],
+    opts: &BatchOptions<'_>,
+) -> Result<Vec<Arc<Prepared>>> {
+    let keys: Vec<CacheKey> = wave
+        .iter()
+        .map(|(b, e, l)| {
+            Ok(CacheKey {
+                foon: foon.fingerprint(),
+                base: b.key(),
+                kitchen: e.fingerprint()?,
+                level: *l,
+            })
+        })
+        .collect::<Result<_>>()?;
+    let mut out: Vec<Option<Arc<Prepared>>> = keys.iter().map(|k| cache.get(k)).collect();
+    // The misses, by base.
+    let mut by_base: FxHashMap<u128, Vec<usize>> = FxHashMap::default();
+    for (i, w) in wave.iter().enumerate() {
+        if out[i].is_none() {
+            by_base.entry(w.0.key()).or_default().push(i);
+        }
+    }
+    let mut bases: Vec<_> = by_base.into_iter().collect();
+    bases.sort_unstable_by_key(|(_, v)| v[0]);
+    for (_, idx) in bases {
+        let ids: Vec<Vec<u32>> = idx
+            .iter()
+            .map(|&i| wave[i].1.kitchen()?.match_at_level(foon, wave[i].2))
+            .collect::<Result<_>>()?;
+        let refs: Vec<&[u32]> = ids.iter().map(Vec::as_slice).collect();
+        let prepared = prepare_many(foon, &wave[idx[0]].0, &refs, opts)?;
+        for (&i, p) in idx.iter().zip(prepared) {
+            let p = p.at_level(wave[i].2);
+            out[i] = Some(cache.get_or_prepare(keys[i], || Ok(p))?);
+        }
+    }
+    out.into_iter()
+        .map(|p| p.ok_or_else(|| Error::Invalid("a kitchen was not prepared".into())))
+        .collect()
+}
+
+/// Answers every row of `rows` over `foon` with the kitchens of `set` (see the module
+/// documentation). Errors only when cancelled or given a bad thread count.
+pub fn run_queries(
+    foon: &Foon,
+    set: &KitchenSet,
+    rows: &[QueryRow<'_>],
+    cache: &PreparedCache,
+    opts: &RunOptions<'_>,
+) -> Result<Vec<Answer>> {
+    let workers = opts.batch.workers(rows.len())?;
+    let never = || false;
+    let cancel: &(dyn Fn() -> bool + Sync) = opts.batch.cancel.unwrap_or(&never);
+    let mut answers: Vec<Option<Answer>> = Vec::with_capacity(rows.len());
+    let mut groups: Vec<GroupKey> = Vec::new();
+    let mut group_of: FxHashMap<GroupKey, usize> = FxHashMap::default();
+    let mut checked: Vec<(usize, Checked)> = Vec::new();
+    // At level 3 a goal does not depend on the kitchen: each distinct goal text is resolved
+    // once, and a row whose goal is not found needs no kitchen.
+    let mut resolved: FxHashMap<&str, std::result::Result<u32, Box<Answer>>> = FxHashMap::default();
+    for (i, row) in rows.iter().enumerate() {
+        match check_row(set, row, opts.default_rate) {
+            Ok((key, mut c)) => {
+                if let (3, Some(text)) = (c.options.level, row.goal) {
+                    let r = resolved.entry(text).or_insert_with(|| {
+                        c.goal
+                            .resolve_by_identity(foon)
+                            .map_err(|e| Box::new(Answer::of_error(&e)))
+                    });
+                    match r {
+                        Ok(g) => c.goal_id = Some(*g),
+                        Err(a) => {
+                            answers.push(Some((**a).clone()));
+                            continue;
+                        }
+                    }
+                }
+                c.group = *group_of.entry(key).or_insert_with(|| {
+                    groups.push(key);
+                    groups.len() - 1
+                });
+                checked.push((i, c));
+                answers.push(None);
+            }
+            Err(a) => answers.push(Some(*a)),
+        }
+    }
+    // Rows by group (stable: row order within a group).
+    checked.sort_by_key(|(_, c)| c.group);
+    let mut start = 0;
+    let wave_len = wave_size(foon);
+    for wave_lo in (0..groups.len()).step_by(wave_len) {
+        if cancel() {
+            return Err(Error::Cancelled);
+        }
+        let wave_hi = (wave_lo + wave_len).min(groups.len());
+        let end = start + checked[start..].partition_point(|(_, c)| c.group < wave_hi);
+        let rows_here = &checked[start..end];
+        start = end;
+        // The bases of the wave (one per default rate), then its kitchens.
+        let mut wave = Vec::new();
+        let mut bad: Vec<Option<Answer>> = Vec::new();
+        for &(k, level, rate) in &groups[wave_lo..wave_hi] {
+            let base = cache.base(foon, opts.utensils, opts.rates, rate.map(f64::from_bits));
+            match base {
+                Ok(b) => {
+                    wave.push((b, set.entry(k), level));
+                    bad.push(None);
+                }
+                Err(e) => bad.push(Some(Answer::of_error(&e))),
+            }
+        }
+        let prepared = match prepare_kitchen(foon, cache, &wave, &opts.batch) {
+            Ok(p) => p.into_iter().map(Ok).collect::<Vec<_>>(),
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(e) => wave.iter().map(|_| Err(e.to_string())).collect(),
+        };
+        // Per group of the wave: its prepared kitchen, or the answer of its rows.
+        let mut preps: Vec<std::result::Result<&Arc<Prepared>, Answer>> = Vec::new();
+        let mut next_prep = prepared.iter();
+        for b in bad {
+            match b {
+                Some(a) => preps.push(Err(a)),
+                None => match next_prep.next() {
+                    Some(Ok(p)) => preps.push(Ok(p)),
+                    Some(Err(m)) => {
+                        preps.push(Err(Answer::of_error(&Error::Invalid(m.clone()))));
+                    }
+                    None => preps.push(Err(Answer::of_error(&Error::Invalid(
+                        "a kitchen was not prepared".into(),
+                    )))),
+                },
+            }
+        }
+        let one = |c: &Checked| -> Result<Answer> {
+            let prep = match &preps[c.group - wave_lo] {
+                Ok(p) => p,
+                Err(a) => return Ok(a.clone()),
+            };
+            answer(foon, prep, c, cancel)
+        };
+        let slots: Vec<OnceLock<Result<Answer>>> =
+            rows_here.iter().map(|_| OnceLock::new()).collect();
+        // What a prepared kitchen computes on first use (ranks, optima, the choices of
+        // `ids`) is computed by the first row of each (kitchen, query) alone: those rows run
+        // first, so that two workers do not compute the same thing for one kitchen at once.
+        let mut seen = rustc_hash::FxHashSet::default();
+        let (mut leaders, mut followers) = (Vec::new(), Vec::new());
+        for (j, (_, c)) in rows_here.iter().enumerate() {
+            if seen.insert((c.group, c.query)) {
+                leaders.push(j);
+            } else {
+                followers.push(j);
+            }
+        }
+        for phase in [leaders, followers] {
+            plan_rows(&phase, workers, cancel, &|j| {
+                let _ = slots[j].set(one(&rows_here[j].1));
+                slots[j].get().is_some_and(Result::is_ok)
+            })?;
+        }
+        for (slot, (i, _)) in slots.into_iter().zip(rows_here) {
+            match slot.into_inner() {
+                Some(Ok(a)) => answers[*i] = Some(a),
+                Some(Err(e)) => return Err(e),
+                None => return Err(Error::Cancelled),
+            }
+        }
+    }
+    answers
+        .into_iter()
+        .map(|a| a.ok_or_else(|| Error::Invalid("a query row was not answered".into())))
+        .collect()
+}
+
+/// Runs `run` for every index of `items`, on up to `workers` workers of the batch pool (on
+/// this thread for one), until `run` answers false (its row failed: the batch stops) or
+/// `cancel` answers true ([`Error::Cancelled`]).
+fn plan_rows(
+    items: &[usize],
+    workers: usize,
+    cancel: &(dyn Fn() -> bool + Sync),
+    run: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<()> {
+    let n_workers = workers.min(items.len()).max(1);
+    if n_workers <= 1 {
+        for &j in items {
+            if cancel() {
+                return Err(Error::Cancelled);
+            }
+            if !run(j) {
+                break;
+            }
+        }
+        return Ok(());
+    }
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let cancelled = AtomicBool::new(false);
+    let work = || {
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= items.len() || stop.load(Ordering::Relaxed) {
+                break;
+            }
+            if cancel() {
+                cancelled.store(true, Ordering::Relaxed);
+                stop.store(true, Ordering::Relaxed);
+                break;
+            }
+            if !run(items[i]) {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+    };
+    in_pool(|| {
+        rayon::scope(|s| {
+            for _ in 0..n_workers {
+                s.spawn(|_| work());
+            }
+        });
+    })?;
+    if cancelled.load(Ordering::Relaxed) {
+        return Err(Error::Cancelled);
+    }
+    Ok(())
+}
+
+/// Plans one checked row on its prepared kitchen.
+fn answer(
+    foon: &Foon,
+    prep: &Prepared,
+    c: &Checked,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Answer> {
+    let ctx = Context::with(foon, prep)?
+        .with_cancel(cancel)
+        .with_shared(c.options.shared);
+    let goal = match c
+        .goal_id
+        .map_or_else(|| c.goal.resolve(&ctx, c.options.level), Ok)
+    {
+        Ok(g) => g,
+        Err(Error::Cancelled) => return Err(Error::Cancelled),
+        Err(e) => return Ok(Answer::of_error(&e)),
+    };
+    match ctx.plan(goal, c.query) {
+        Ok(p) => Ok(Answer::of_plan(foon, p)),
+        Err(Error::Cancelled) => Err(Error::Cancelled),
+        Err(e) => Ok(Answer::of_error(&e)),
+    }
+}
