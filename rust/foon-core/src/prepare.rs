@@ -101,6 +101,8 @@ impl Objective {
 pub(crate) struct Optimum {
     pub(crate) cost: Vec<f64>,
     pub(crate) choice: Vec<u32>,
+    /// The tie key of every final object (`search::optimal::tie_depth`; 0 otherwise).
+    pub(crate) depth: Vec<u32>,
 }
 
 /// The value in `cell`, computing it with `init` when it is not there yet. An error (a
@@ -199,7 +201,7 @@ impl Prepared {
             b += 4 * r.as_slice().len();
         }
         for o in self.optima.iter().filter_map(OnceLock::get) {
-            b += 8 * o.cost.capacity() + 4 * o.choice.capacity();
+            b += 8 * o.cost.capacity() + 4 * o.choice.capacity() + 4 * o.depth.capacity();
         }
         if let Some(c) = self.ids_choice.get() {
             b += 4 * c.capacity();
