@@ -1674,6 +1674,31 @@ class Planner:
             fixed_tree=fixed_tree,
         )
 
+    def with_changes(
+        self,
+        add: Iterable[ObjectLike] | None = None,
+        remove: Iterable[ObjectLike] | None = None,
+    ) -> Planner:
+        """A planner for this kitchen without the items ``remove`` and with the items ``add``
+        (:meth:`Kitchen.without`, then :meth:`Kitchen.with_items`), over the same FOON,
+        motion rates, utensils and level. It is prepared incrementally: what this planner
+        has computed (ranks, the choices of ``ids``, the costs and choices of the optimal
+        methods and of explanations) is updated for the change instead of computed again,
+        which costs what the change reaches rather than the whole FOON; its plans equal
+        those of ``Planner(foon, new_kitchen, ...)`` (docs/METHODS.md, "Incremental
+        kitchens")."""
+        kitchen = self.kitchen.without(() if remove is None else remove)
+        kitchen = kitchen.with_items(() if add is None else add)
+        new = object.__new__(Planner)
+        new.level = self.level
+        new.foon = self.foon
+        new.kitchen = kitchen
+        new.motions = self.motions
+        new.utensils = self.utensils
+        new.default_rate = self.default_rate
+        new._native = _foon.planner_with_kitchen(self._native, kitchen._native)
+        return new
+
 
 def _restore_planner(
     foon: Foon,

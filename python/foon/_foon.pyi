@@ -469,3 +469,11 @@ def derivable_many(
     threads: int | None = None,
     mode: str = "lanes",
 ) -> list[list[bool]] | list[list[int | None]]: ...
+
+# Incremental kitchens.
+__all__ += ["planner_with_kitchen"]
+
+def planner_with_kitchen(planner: Planner, kitchen: Kitchen) -> Planner:
+    """A planner for `kitchen` (matched at the planner's level) over the same FOON, utensils,
+    rates and level, prepared incrementally from `planner`'s preparation: the difference of
+    the kitchens is applied to what it has computed. Its results equal a new planner's."""

@@ -22,6 +22,7 @@ mod serial;
 mod split;
 mod synth;
 mod writers;
+mod incremental;
 
 #[pyo3::pymodule]
 mod _foon {
@@ -65,6 +66,9 @@ mod _foon {
 
     #[pymodule_export]
     use super::multi::derivable_many;
+
+    #[pymodule_export]
+    use super::incremental::planner_with_kitchen;
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
