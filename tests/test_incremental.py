@@ -59,12 +59,15 @@ def objects_of(f: foon.Foon, ids: list[int]) -> list[foon.Object]:
 @SETTINGS
 @given(g=gen_foons(), data=st.data())
 def test_generated_foons(g: GenFoon, data: st.DataObject) -> None:
-    """Random FOONs and kitchens, random deltas of up to four additions and four removals
-    (objects of the FOON, kitchen items or not, and an item the FOON does not have)."""
+    """Random FOONs and kitchens (matched at identity level 3, 2 or 1), random deltas of up to
+    four additions and four removals (objects of the FOON, kitchen items or not, and an item
+    the FOON does not have)."""
     case: Case = draw_case(data, g)
     f = case.f
     n = f.object_count
-    base = foon.Planner(f, case.rkitchen, motions=case.rates, utensils=sorted(case.utensils))
+    level = data.draw(st.sampled_from((3, 3, 2, 1)), label="level")
+    base = foon.Planner(f, case.rkitchen, motions=case.rates, utensils=sorted(case.utensils),
+                        level=level)  # fmt: skip
     ids = st.lists(st.integers(0, n - 1), max_size=4)
     add = objects_of(f, data.draw(ids, label="add"))
     remove = objects_of(f, data.draw(ids, label="remove"))

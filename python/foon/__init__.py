@@ -1687,8 +1687,8 @@ class Planner:
         which costs what the change reaches rather than the whole FOON; its plans equal
         those of ``Planner(foon, new_kitchen, ...)`` (docs/METHODS.md, "Incremental
         kitchens")."""
-        kitchen = self.kitchen.without(() if remove is None else remove)
-        kitchen = kitchen.with_items(() if add is None else add)
+        adding, removing = _as_kitchen(add), _as_kitchen(remove)
+        kitchen = self.kitchen.without(removing).with_items(adding)
         new = object.__new__(Planner)
         new.level = self.level
         new.foon = self.foon
@@ -1696,7 +1696,9 @@ class Planner:
         new.motions = self.motions
         new.utensils = self.utensils
         new.default_rate = self.default_rate
-        new._native = _foon.planner_with_kitchen(self._native, kitchen._native)
+        new._native = _foon.planner_with_changes(
+            self._native, adding._native, removing._native, kitchen._native
+        )
         return new
 
 

@@ -471,9 +471,11 @@ def derivable_many(
 ) -> list[list[bool]] | list[list[int | None]]: ...
 
 # Incremental kitchens.
-__all__ += ["planner_with_kitchen"]
+__all__ += ["planner_with_changes"]
 
-def planner_with_kitchen(planner: Planner, kitchen: Kitchen) -> Planner:
-    """A planner for `kitchen` (matched at the planner's level) over the same FOON, utensils,
-    rates and level, prepared incrementally from `planner`'s preparation: the difference of
-    the kitchens is applied to what it has computed. Its results equal a new planner's."""
+def planner_with_changes(
+    planner: Planner, add: Kitchen, remove: Kitchen, kitchen: Kitchen
+) -> Planner:
+    """A planner for `planner`'s kitchen without the items of `remove` and with those of
+    `add` (`kitchen`: that new kitchen), over the same FOON, utensils, rates and level,
+    prepared incrementally from `planner`'s preparation. Its results equal a new planner's."""

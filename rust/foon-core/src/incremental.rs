@@ -25,6 +25,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 
 use crate::error::{Error, Result};
@@ -316,7 +317,39 @@ impl Prepared {
             );
             return Ok(out);
         }
-        let new_prep = &out;
+        // The parts are independent: they are updated at once, on the core's pool.
+        let ((ranks, ids), optima) = crate::search::batch::in_pool(|| {
+            rayon::join(
+                || self.delta_ranks(foon, &out, &flipped),
+                || {
+                    let mut optima: [Option<Optimum>; 4] = Default::default();
+                    let done: Vec<(usize, Optimum)> = Objective::ALL
+                        .par_iter()
+                        .enumerate()
+                        .filter_map(|(i, &o)| {
+                            self.delta_optimum(foon, &out, &flipped, o).map(|x| (i, x))
+                        })
+                        .collect();
+                    for (i, x) in done {
+                        optima[i] = Some(x);
+                    }
+                    optima
+                },
+            )
+        })?;
+        out.set_computed(ranks, optima, ids);
+        Ok(out)
+    }
+
+    /// The ranks and the choice of `ids` of `new_prep` (this kitchen changed at `flipped`),
+    /// updated from this kitchen's, for those computed here.
+    fn delta_ranks(
+        &self,
+        foon: &Foon,
+        new_prep: &Prepared,
+        flipped: &[u32],
+    ) -> (Option<Ranks>, Option<Vec<u32>>) {
+        let old = self.kitchen_flags();
         let was_kitchen = |o: u32| old[o as usize];
         let is_kitchen = |o: u32| new_prep.in_kitchen(o);
         // Ranks, and from them the choice of `ids`.
@@ -355,7 +388,7 @@ impl Prepared {
                 value: &value,
                 old_choice: &old_choice,
             };
-            let touched = pass(foon, new_prep, &mut store, &flipped, &rules);
+            let touched = pass(foon, new_prep, &mut store, flipped, &rules);
             let rank = store.0;
             if let Some(c) = self.computed_ids_choice() {
                 let mut choice = c.to_vec();
@@ -372,57 +405,63 @@ impl Prepared {
             }
             ranks = Some(Ranks::from_vec(rank));
         }
-        // Each optimal objective the base has computed.
-        let mut optima: [Option<Optimum>; 4] = Default::default();
-        for (slot, objective) in optima.iter_mut().zip(Objective::ALL) {
-            let Some(o) = self.computed_optimum(objective) else {
-                continue;
-            };
-            let mut store = o.clone();
-            let rates = self.fu_rates();
-            let success =
-                |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0 - rates[f as usize].ln());
-            let units = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 1.0);
-            let inputs = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0);
-            let raw = |o: u32| foon.producers(o).is_empty();
-            let was_shop = |o: u32| old[o as usize] || raw(o);
-            let is_shop = |o: u32| new_prep.in_kitchen(o) || raw(o);
-            let old_choice = |s: &dyn Store, y: u32| s.choice(y);
-            let rules = match objective {
-                Objective::Success => Rules {
-                    was_leaf: &was_kitchen,
-                    is_leaf: &is_kitchen,
-                    leaf: (0.0, 0),
-                    value: &success,
-                    old_choice: &old_choice,
-                },
-                Objective::Units => Rules {
-                    was_leaf: &was_kitchen,
-                    is_leaf: &is_kitchen,
-                    leaf: (0.0, 0),
-                    value: &units,
-                    old_choice: &old_choice,
-                },
-                Objective::Inputs => Rules {
-                    was_leaf: &was_kitchen,
-                    is_leaf: &is_kitchen,
-                    leaf: (1.0, 0),
-                    value: &inputs,
-                    old_choice: &old_choice,
-                },
-                Objective::Shopping => Rules {
-                    was_leaf: &was_shop,
-                    is_leaf: &is_shop,
-                    leaf: (1.0, 0),
-                    value: &inputs,
-                    old_choice: &old_choice,
-                },
-            };
-            pass(foon, new_prep, &mut store, &flipped, &rules);
-            *slot = Some(store);
-        }
-        out.set_computed(ranks, optima, ids);
-        Ok(out)
+        (ranks, ids)
+    }
+
+    /// The optimum of `objective` of `new_prep` (this kitchen changed at `flipped`), updated
+    /// from this kitchen's, when computed here.
+    fn delta_optimum(
+        &self,
+        foon: &Foon,
+        new_prep: &Prepared,
+        flipped: &[u32],
+        objective: Objective,
+    ) -> Option<Optimum> {
+        let old = self.kitchen_flags();
+        let was_kitchen = |o: u32| old[o as usize];
+        let is_kitchen = |o: u32| new_prep.in_kitchen(o);
+        let mut store = self.computed_optimum(objective)?.clone();
+        let rates = self.fu_rates();
+        let success =
+            |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0 - rates[f as usize].ln());
+        let units = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 1.0);
+        let inputs = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0);
+        let raw = |o: u32| foon.producers(o).is_empty();
+        let was_shop = |o: u32| old[o as usize] || raw(o);
+        let is_shop = |o: u32| new_prep.in_kitchen(o) || raw(o);
+        let old_choice = |s: &dyn Store, y: u32| s.choice(y);
+        let rules = match objective {
+            Objective::Success => Rules {
+                was_leaf: &was_kitchen,
+                is_leaf: &is_kitchen,
+                leaf: (0.0, 0),
+                value: &success,
+                old_choice: &old_choice,
+            },
+            Objective::Units => Rules {
+                was_leaf: &was_kitchen,
+                is_leaf: &is_kitchen,
+                leaf: (0.0, 0),
+                value: &units,
+                old_choice: &old_choice,
+            },
+            Objective::Inputs => Rules {
+                was_leaf: &was_kitchen,
+                is_leaf: &is_kitchen,
+                leaf: (1.0, 0),
+                value: &inputs,
+                old_choice: &old_choice,
+            },
+            Objective::Shopping => Rules {
+                was_leaf: &was_shop,
+                is_leaf: &is_shop,
+                leaf: (1.0, 0),
+                value: &inputs,
+                old_choice: &old_choice,
+            },
+        };
+        pass(foon, new_prep, &mut store, flipped, &rules);
+        Some(store)
     }
 
     /// As [`Prepared::with_delta`], with the new kitchen given whole (object ids of `foon`,

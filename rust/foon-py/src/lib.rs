@@ -68,7 +68,7 @@ mod _foon {
     use super::multi::derivable_many;
 
     #[pymodule_export]
-    use super::incremental::planner_with_kitchen;
+    use super::incremental::planner_with_changes;
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
