@@ -8,9 +8,12 @@ Build the wheel in release mode first (`maturin build --release`, installed in i
 `foon synth` writes a FOON of `--units` units, its kitchen and motion table (seed 1, cached in
 the work folder). The base planner (that kitchen, those rates) computes everything a plan of
 each kind needs: the ranks, the choices of `ids` and the costs and choices of the three
-optimal objectives. For each seed, three deltas of `--delta` items: additions (objects of the
-FOON outside the kitchen), removals (kitchen items), and half of each. Side by side, in one
-process, best of `--repeat`:
+optimal objectives. For each seed, four deltas of `--delta` items: additions of raw items
+(objects without a producer, outside the kitchen: what a kitchen gains), removals (kitchen
+items), half of each, and additions of made objects (objects with a producer, outside the
+kitchen: each lowers the tree cost of everything made from it, so a large part of the FOON
+changes, and the update costs about as much as a preparation from scratch). Side by side, in
+one process, best of `--repeat`:
 
 - **from scratch**: `Planner(foon, new_kitchen, motions=...)`, then a plan with `ids` and one
   with `optimal-units` (which computes the ranks, the `ids` choices and the three optimal
@@ -95,17 +98,20 @@ def main() -> None:
     warm(base)
     items = list(kitchen)
     inside = {f.find(o) for o in items}
-    outside = [o for o in range(f.object_count) if o not in inside]
+    raw = [o for o in range(f.object_count) if o not in inside and not f.producers(o)]
+    made = [o for o in range(f.object_count) if o not in inside and f.producers(o)]
     rows = []
     for seed in [int(s) for s in args.seeds.split(",")]:
         rnd = random.Random(seed)
         half = args.delta // 2
-        adds = [f.object(o) for o in rnd.sample(outside, args.delta)]
+        adds = [f.object(o) for o in rnd.sample(raw, args.delta)]
         removes = rnd.sample(items, args.delta)
+        made_adds = [f.object(o) for o in rnd.sample(made, args.delta)]
         for kind, add, remove in (
-            ("additions", adds, []),
+            ("additions (raw items)", adds, []),
             ("removals", [], removes),
             ("mixed", adds[:half], removes[: args.delta - half]),
+            ("additions (made objects)", made_adds, []),
         ):
             new_kitchen = kitchen.without(remove).with_items(add)
 
