@@ -306,10 +306,10 @@ impl Prepared {
         }
         kitchen_objects.extend(it);
         // The new kitchen's flags and objects, on this base; what is computed is set below.
-        let out = self.from_parts(in_kitchen, kitchen_objects);
+        let out = self.with_parts(in_kitchen, kitchen_objects);
         if flipped.is_empty() {
             // Nothing changed: everything computed is the same.
-            let optima = Objective::ALL.map(|o| self.computed_optimum(o).map(Optimum::clone));
+            let optima = Objective::ALL.map(|o| self.computed_optimum(o).cloned());
             out.set_computed(
                 self.computed_ranks().cloned(),
                 optima,
@@ -541,12 +541,12 @@ mod tests {
                 let _ = writeln!(text, "O\to{i}\nS\ts");
             }
         };
-        for _ in 0..1 + rng.below(25) {
+        for _ in 0..=rng.below(25) {
             for _ in 0..rng.below(4) {
                 obj(rng, &mut text);
             }
             let _ = writeln!(text, "M\tm{}", rng.below(4));
-            for _ in 0..1 + rng.below(2) {
+            for _ in 0..=rng.below(2) {
                 obj(rng, &mut text);
             }
             text.push_str("//\n");

@@ -347,7 +347,7 @@ impl Prepared {
 
     /// A kitchen prepared on this one's base and level from its flags and objects (in id
     /// order), nothing computed yet (see [`Prepared::set_computed`] and `incremental.rs`).
-    pub(crate) fn from_parts(&self, in_kitchen: Vec<bool>, kitchen_objects: Vec<u32>) -> Self {
+    pub(crate) fn with_parts(&self, in_kitchen: Vec<bool>, kitchen_objects: Vec<u32>) -> Self {
         Self {
             foon: self.foon,
             base: Arc::clone(&self.base),
