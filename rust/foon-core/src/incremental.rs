@@ -108,10 +108,15 @@ fn pass(
     flipped: &[u32],
     rules: &Rules<'_>,
 ) -> Vec<u32> {
-    let mut affected: FxHashSet<u32> = FxHashSet::default();
+    // Per object: AFFECTED, DONE (final in this pass). Zeroed pages cost nothing until
+    // touched, so the marks cost what the pass reaches.
+    const AFFECTED: u8 = 1;
+    const DONE: u8 = 2;
+    let mut mark = vec![0u8; foon.object_count()];
     let mut list: Vec<u32> = Vec::new();
     for &o in flipped {
-        if (rules.was_leaf)(o) != (rules.is_leaf)(o) && affected.insert(o) {
+        if (rules.was_leaf)(o) != (rules.is_leaf)(o) && mark[o as usize] & AFFECTED == 0 {
+            mark[o as usize] |= AFFECTED;
             list.push(o);
         }
     }
@@ -122,8 +127,8 @@ fn pass(
         i += 1;
         for &f in prep.needed_by(x) {
             for &y in foon.outputs(f) {
-                if !affected.contains(&y) && (rules.old_choice)(&*store, y) == f {
-                    affected.insert(y);
+                if mark[y as usize] & AFFECTED == 0 && (rules.old_choice)(&*store, y) == f {
+                    mark[y as usize] |= AFFECTED;
                     list.push(y);
                 }
             }
@@ -132,12 +137,13 @@ fn pass(
     for &y in &list {
         store.set(y, (f64::INFINITY, 0), NONE);
     }
-    let mut done: FxHashSet<u32> = FxHashSet::default();
+    let mut lowered: Vec<u32> = Vec::new();
     let mut heap: BinaryHeap<Key> = BinaryHeap::new();
-    let available = |store: &dyn Store, done: &FxHashSet<u32>, f: u32| {
-        prep.needed(f)
-            .iter()
-            .all(|&x| store.get(x).0.is_finite() && (!affected.contains(&x) || done.contains(&x)))
+    let available = |store: &dyn Store, mark: &[u8], f: u32| {
+        prep.needed(f).iter().all(|&x| {
+            let m = mark[x as usize];
+            store.get(x).0.is_finite() && (m & AFFECTED == 0 || m & DONE != 0)
+        })
     };
     let offer =
         |store: &mut dyn Store, heap: &mut BinaryHeap<Key>, y: u32, f: u32, v: (f64, u32)| {
@@ -155,7 +161,7 @@ fn pass(
             heap.push(Reverse((rules.leaf.0.to_bits(), rules.leaf.1, y)));
         } else if !foon.is_bare(y) {
             for &f in foon.producers(y) {
-                if available(&*store, &done, f) {
+                if available(&*store, &mark, f) {
                     let v = (rules.value)(&*store, f);
                     if v.0 != f64::INFINITY {
                         offer(store, &mut heap, y, f, v);
@@ -166,12 +172,15 @@ fn pass(
     }
     while let Some(Reverse((bits, depth, o))) = heap.pop() {
         let now = store.get(o);
-        if done.contains(&o) || (now.0.to_bits(), now.1) != (bits, depth) {
+        if mark[o as usize] & DONE != 0 || (now.0.to_bits(), now.1) != (bits, depth) {
             continue;
         }
-        done.insert(o);
+        mark[o as usize] |= DONE;
+        if mark[o as usize] & AFFECTED == 0 {
+            lowered.push(o);
+        }
         for &f in prep.needed_by(o) {
-            if !available(&*store, &done, f) {
+            if !available(&*store, &mark, f) {
                 continue;
             }
             let v = (rules.value)(&*store, f);
@@ -179,7 +188,7 @@ fn pass(
                 continue;
             }
             for &y in foon.outputs(f) {
-                if (rules.is_leaf)(y) || foon.is_bare(y) || done.contains(&y) {
+                if (rules.is_leaf)(y) || foon.is_bare(y) || mark[y as usize] & DONE != 0 {
                     continue;
                 }
                 offer(store, &mut heap, y, f, v);
@@ -187,11 +196,11 @@ fn pass(
         }
     }
     for &y in &list {
-        if !done.contains(&y) {
+        if mark[y as usize] & DONE == 0 {
             store.set(y, (f64::INFINITY, 0), NONE);
         }
     }
-    list.extend(done.into_iter().filter(|o| !affected.contains(o)));
+    list.extend(lowered);
     list
 }
 
