@@ -495,11 +495,15 @@ def knuth(
     cost of every object reached with a finite cost, and the choice (an FU index) of every such
     object outside base.
 
-    Objects are finalised in (cost, id) order. An FU is evaluated once, when all its needed
-    inputs are final; it sets the cost of an output that is not final and not in base when it is
-    strictly cheaper, or equally cheap with a lower FU index. So every choice has all its needed
-    inputs final before its object becomes final (no zero-cost cycle can sneak in). An FU of
-    infinite cost (a motion of rate 0) never sets anything.
+    Ties: every object also has a depth (0 on `base`); a unit offers its cost and, as its
+    depth, one more than the largest depth of a needed input that costs exactly as much as
+    the unit (a step that leaves the cost unchanged), 0 when every input costs less. Objects
+    are finalised in (cost, depth, id) order. An FU is evaluated once, when all its needed
+    inputs are final; it sets the (cost, depth) of an output that is not final and not in base
+    when it is lower, or equal with a lower FU index. A unit's (cost, depth) is above each of
+    its inputs', so the choice of an object is the lowest-index producer whose (cost, depth)
+    is the object's, whatever the order of equal-cost objects. An FU of infinite cost (a
+    motion of rate 0) never sets anything.
     """
     needed: list[list[int]] = [needed_inputs(foon, f, utensils) for f in range(len(foon.fus))]
     users: dict[int, list[int]] = {}  # object -> FUs that need it
@@ -510,10 +514,11 @@ def knuth(
                 users[x].append(f)
 
     cost: dict[int, float] = {o: leaf for o in base}
+    depth: dict[int, int] = {o: 0 for o in base}
     choice: dict[int, int] = {}
     final: set[int] = set()
     evaluated: set[int] = set()
-    heap: list[tuple[float, int]] = [(leaf, o) for o in base]
+    heap: list[tuple[float, int, int]] = [(leaf, 0, o) for o in base]
     heapq.heapify(heap)
 
     def evaluate(f: int) -> None:
@@ -523,21 +528,27 @@ def knuth(
             total += cost[x]
         if total == math.inf:
             return
+        d = max((depth[x] + 1 for x in needed[f] if cost[x] == total), default=0)
         for o in foon.fu_produced(f):
             if o in base or o in final:
                 continue
-            if o not in cost or total < cost[o] or (total == cost[o] and f < choice[o]):
+            if (
+                o not in cost
+                or (total, d) < (cost[o], depth[o])
+                or ((total, d) == (cost[o], depth[o]) and f < choice[o])
+            ):
                 cost[o] = total
+                depth[o] = d
                 choice[o] = f
-                heapq.heappush(heap, (total, o))
+                heapq.heappush(heap, (total, d, o))
 
     for f in range(len(foon.fus)):
         if len(needed[f]) == 0:
             evaluate(f)
 
     while len(heap) > 0:
-        c, o = heapq.heappop(heap)
-        if o in final or c != cost[o]:
+        c, d, o = heapq.heappop(heap)
+        if o in final or (c, d) != (cost[o], depth[o]):
             continue
         final.add(o)
         for f in users.get(o, []):

@@ -710,23 +710,45 @@ def test_explanation_when_a_kitchen_object_can_be_made_from_nothing() -> None:
         compare(rf, f, tree, goal, kitchen, set(), None, cfg)
 
 
-#: g is made by FU 0 from the kitchen object a, or by FU 1 from nothing; both motions have
-#: rate 1, so both ways cost 0 for optimal-success and the tie goes to FU 0 (a, id 0, is
-#: final before g, id 1). Rust once weighed rate 1 as -0.0, which its heap ordered before
-#: the leaves' +0.0, so g was final before a and FU 1 was chosen.
+#: g is made by FU 0 from the kitchen object a, or by FU 1 from nothing.
 RATE_ONE_TIE = "O\ta\nS\tx\nM\tmix\nO\tg\nS\ty\n//\nM\tchop\nO\tg\nS\ty\n//\n"
+
+#: g is made by FU 0 from the kitchen object a, or by FU 2 from m, which FU 1 makes from
+#: nothing; every motion has rate 1, so for optimal-success every object costs 0, and a, m
+#: have depth 0 and both ways to g depth 1 (each adds a step at the same cost): the tie goes
+#: to FU 0, the lower index. Rust once weighed rate 1 as -0.0, which orders below +0.0: m then
+#: cost -0.0, so did FU 2, and FU 2 was chosen.
+RATE_ONE_TIE_DEPTH = (
+    "O\ta\nS\tx\nM\tmix\nO\tg\nS\ty\n//\n"
+    "M\tchop\nO\tm\nS\tx\n//\n"
+    "O\tm\nS\tx\nM\tmix\nO\tg\nS\ty\n//\n"
+)
 
 
 def test_rate_one_ties_go_to_the_lowest_index() -> None:
-    rf = ref.parse(RATE_ONE_TIE)
-    f = foon.Foon.from_text(RATE_ONE_TIE)
+    rf = ref.parse(RATE_ONE_TIE_DEPTH)
+    f = foon.Foon.from_text(RATE_ONE_TIE_DEPTH)
     assert_same_tables(rf, f)
     kitchen = [("a", ("x",), (), None)]
     rates = {"mix": 1.0, "chop": 1.0}
-    (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], rates,
-                            Config("optimal-success", None, "nodes"))  # fmt: skip
+    cfg = Config("optimal-success", None, "nodes")
+    (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], rates, cfg)
     assert tree.units == [0] and tree.cost == 1.0
-    compare(rf, f, tree, 1, kitchen, set(), rates, Config("optimal-success", None, "nodes"))
+    compare(rf, f, tree, 1, kitchen, set(), rates, cfg)
+
+
+def test_an_equal_cost_tie_goes_to_the_lower_depth() -> None:
+    """g is made by FU 0 from the kitchen object a, or by FU 1 from nothing, both at
+    optimal-success cost 0 (rate 1): FU 1 adds no step at the same cost (depth 0), FU 0 one
+    (depth 1), so FU 1 is chosen although FU 0 has the lower index."""
+    rf = ref.parse(RATE_ONE_TIE)
+    f = foon.Foon.from_text(RATE_ONE_TIE)
+    kitchen = [("a", ("x",), (), None)]
+    rates = {"mix": 1.0, "chop": 1.0}
+    cfg = Config("optimal-success", None, "nodes")
+    (tree,) = rust_plan_all(f, [1], rust_kitchen(kitchen), [], rates, cfg)
+    assert tree.units == [1] and tree.cost == 1.0
+    compare(rf, f, tree, 1, kitchen, set(), rates, cfg)
 
 
 def test_a_motion_of_rate_zero_is_never_used() -> None:

@@ -1677,6 +1677,33 @@ class Planner:
             fixed_tree=fixed_tree,
         )
 
+    def with_changes(
+        self,
+        add: Iterable[ObjectLike] | None = None,
+        remove: Iterable[ObjectLike] | None = None,
+    ) -> Planner:
+        """A planner for this kitchen without the items ``remove`` and with the items ``add``
+        (:meth:`Kitchen.without`, then :meth:`Kitchen.with_items`), over the same FOON,
+        motion rates, utensils and level. It is prepared incrementally: what this planner
+        has computed (ranks, the choices of ``ids``, the costs and choices of the optimal
+        methods and of explanations) is updated for the change instead of computed again,
+        which costs what the change reaches rather than the whole FOON; its plans equal
+        those of ``Planner(foon, new_kitchen, ...)`` (docs/METHODS.md, "Incremental
+        kitchens")."""
+        adding, removing = _as_kitchen(add), _as_kitchen(remove)
+        kitchen = self.kitchen.without(removing).with_items(adding)
+        new = object.__new__(Planner)
+        new.level = self.level
+        new.foon = self.foon
+        new.kitchen = kitchen
+        new.motions = self.motions
+        new.utensils = self.utensils
+        new.default_rate = self.default_rate
+        new._native = _foon.planner_with_changes(
+            self._native, adding._native, removing._native, kitchen._native
+        )
+        return new
+
 
 def _restore_planner(
     foon: Foon,

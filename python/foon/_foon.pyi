@@ -509,3 +509,13 @@ def plan_queries(
     default_rate: float | None = None,
 ) -> tuple[Any, ...]: ...
 def failure_codes() -> list[str]: ...
+
+# Incremental kitchens.
+__all__ += ["planner_with_changes"]
+
+def planner_with_changes(
+    planner: Planner, add: Kitchen, remove: Kitchen, kitchen: Kitchen
+) -> Planner:
+    """A planner for `planner`'s kitchen without the items of `remove` and with those of
+    `add` (`kitchen`: that new kitchen), over the same FOON, utensils, rates and level,
+    prepared incrementally from `planner`'s preparation. Its results equal a new planner's."""

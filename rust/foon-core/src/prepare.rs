@@ -94,13 +94,23 @@ pub(crate) enum Objective {
 
 impl Objective {
     const COUNT: usize = 4;
+    /// Every objective, in the order of [`Prepared`]'s optima.
+    pub(crate) const ALL: [Objective; Objective::COUNT] = [
+        Objective::Success,
+        Objective::Units,
+        Objective::Inputs,
+        Objective::Shopping,
+    ];
 }
 
 /// Final cost and choice of every object for one [`Objective`] (`f64::INFINITY` and `NONE`
 /// for an object that is not finalised).
+#[derive(Clone)]
 pub(crate) struct Optimum {
     pub(crate) cost: Vec<f64>,
     pub(crate) choice: Vec<u32>,
+    /// The tie key of every final object (`search::optimal::tie_depth`; 0 otherwise).
+    pub(crate) depth: Vec<u32>,
 }
 
 /// The value in `cell`, computing it with `init` when it is not there yet. An error (a
@@ -199,7 +209,7 @@ impl Prepared {
             b += 4 * r.as_slice().len();
         }
         for o in self.optima.iter().filter_map(OnceLock::get) {
-            b += 8 * o.cost.capacity() + 4 * o.choice.capacity();
+            b += 8 * o.cost.capacity() + 4 * o.choice.capacity() + 4 * o.depth.capacity();
         }
         if let Some(c) = self.ids_choice.get() {
             b += 4 * c.capacity();
@@ -318,6 +328,57 @@ impl Prepared {
         init: impl FnOnce() -> Result<Greedy>,
     ) -> Result<&Greedy> {
         once(&self.base.greedy[which], init)
+    }
+
+    /// The ranks, when computed already.
+    pub(crate) fn computed_ranks(&self) -> Option<&Ranks> {
+        self.ranks.get()
+    }
+
+    /// The optimum of `objective`, when computed already.
+    pub(crate) fn computed_optimum(&self, objective: Objective) -> Option<&Optimum> {
+        self.optima[objective as usize].get()
+    }
+
+    /// The choice of `ids`, when computed already.
+    pub(crate) fn computed_ids_choice(&self) -> Option<&[u32]> {
+        self.ids_choice.get().map(Vec::as_slice)
+    }
+
+    /// A kitchen prepared on this one's base and level from its flags and objects (in id
+    /// order), nothing computed yet (see [`Prepared::set_computed`] and `incremental.rs`).
+    pub(crate) fn with_parts(&self, in_kitchen: Vec<bool>, kitchen_objects: Vec<u32>) -> Self {
+        Self {
+            foon: self.foon,
+            base: Arc::clone(&self.base),
+            in_kitchen,
+            kitchen_objects,
+            ranks: OnceLock::new(),
+            optima: Default::default(),
+            ids_choice: OnceLock::new(),
+            level: self.level,
+        }
+    }
+
+    /// Sets what is computed already (each must be that of this kitchen); a part already
+    /// set is kept.
+    pub(crate) fn set_computed(
+        &self,
+        ranks: Option<Ranks>,
+        optima: [Option<Optimum>; Objective::COUNT],
+        ids_choice: Option<Vec<u32>>,
+    ) {
+        if let Some(r) = ranks {
+            let _ = self.ranks.set(r);
+        }
+        for (cell, o) in self.optima.iter().zip(optima) {
+            if let Some(o) = o {
+                let _ = cell.set(o);
+            }
+        }
+        if let Some(c) = ids_choice {
+            let _ = self.ids_choice.set(c);
+        }
     }
 
     /// Ranks from the kitchen plus the objects marked in `extra`.

@@ -24,6 +24,7 @@ mod synth;
 mod writers;
 // Queries in, results out.
 mod batch;
+mod incremental;
 
 #[pyo3::pymodule]
 mod _foon {
@@ -67,6 +68,9 @@ mod _foon {
 
     #[pymodule_export]
     use super::multi::derivable_many;
+
+    #[pymodule_export]
+    use super::incremental::planner_with_changes;
 
     #[pymodule_export]
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};

@@ -219,6 +219,8 @@ enum Seeded {
 /// Reusable per-run state of Knuth's algorithm over the local graph.
 struct Work {
     cost: Vec<f64>,
+    /// The tie key of `optimal::tie_depth`.
+    depth: Vec<u32>,
     choice: Vec<u32>,
     done: Vec<bool>,
     left: Vec<u32>,
@@ -236,25 +238,47 @@ struct Work {
 }
 
 impl Work {
-    /// Knuth's relaxation: `f` makes `y` at `cost`; it becomes `y`'s choice when cheaper, or
-    /// as cheap with a lower unit index (pushed on the heap only when cheaper).
-    fn offer(&mut self, y: u32, f: u32, cost: f64) {
+    /// Knuth's relaxation: `f` makes `y` at (`cost`, `depth`); it becomes `y`'s choice when
+    /// lower, or as low with a lower unit index (pushed on the heap only when lower).
+    fn offer(&mut self, y: u32, f: u32, cost: f64, depth: u32) {
+        if cost == f64::INFINITY {
+            return;
+        }
         let yi = y as usize;
-        let (old_cost, old_choice) = (self.cost[yi], self.choice[yi]);
-        #[allow(clippy::float_cmp)]
-        let better = cost < old_cost || (cost == old_cost && f < old_choice);
-        if better {
-            if cost < old_cost {
-                self.heap.push(Entry { cost, obj: y });
+        let (old_cost, old_depth, old_choice) = (self.cost[yi], self.depth[yi], self.choice[yi]);
+        if optimal::better(cost, depth, f, old_cost, old_depth, old_choice) {
+            if optimal::lower(cost, depth, old_cost, old_depth) {
+                self.heap.push(Entry {
+                    cost,
+                    depth,
+                    obj: y,
+                });
             }
             self.cost[yi] = cost;
+            self.depth[yi] = depth;
             self.choice[yi] = f;
         }
+    }
+
+    /// The (cost, depth) `f` offers its outputs, weighing `w`, from the current costs.
+    fn value(&self, w: f64, needed: &[u32]) -> (f64, u32) {
+        let mut cost = w;
+        for &x in needed {
+            cost += self.cost[x as usize];
+        }
+        let d = optimal::tie_depth(
+            cost,
+            needed
+                .iter()
+                .map(|&x| (self.cost[x as usize], self.depth[x as usize])),
+        );
+        (cost, d)
     }
 
     fn new(g: &Local) -> Self {
         Self {
             cost: vec![f64::INFINITY; g.objs.len()],
+            depth: vec![0; g.objs.len()],
             choice: vec![NONE; g.objs.len()],
             done: vec![false; g.objs.len()],
             left: vec![0; g.fus.len()],
@@ -306,6 +330,7 @@ impl Local {
     fn knuth(&self, w: &[f64], c: &Constraints, work: &mut Work, to_end: bool) {
         let n = self.objs.len();
         work.cost.fill(f64::INFINITY);
+        work.depth.fill(0);
         work.choice.fill(NONE);
         work.done.fill(false);
         work.heap.clear();
@@ -323,6 +348,7 @@ impl Local {
                 work.cost[o] = self.leaf_cost;
                 work.heap.push(Entry {
                     cost: self.leaf_cost,
+                    depth: 0,
                     obj: o as u32,
                 });
             }
@@ -332,16 +358,13 @@ impl Local {
             (fx == NONE || fx == f) && !(work.banned[y as usize] && c.banned.contains(&(y, f)))
         };
         let fire = |f: u32, work: &mut Work| {
-            let mut cost = w[f as usize];
-            for &x in &self.needed[f as usize] {
-                cost += work.cost[x as usize];
-            }
+            let (cost, d) = work.value(w[f as usize], &self.needed[f as usize]);
             for &y in &self.outs[f as usize] {
                 let yi = y as usize;
                 if work.done[yi] || !allowed(work, y, f) {
                     continue;
                 }
-                work.offer(y, f, cost);
+                work.offer(y, f, cost, d);
             }
         };
         for f in 0..self.fus.len() as u32 {
@@ -349,9 +372,14 @@ impl Local {
                 fire(f, work);
             }
         }
-        while let Some(Entry { cost, obj: o }) = work.heap.pop() {
+        while let Some(Entry {
+            cost,
+            depth,
+            obj: o,
+        }) = work.heap.pop()
+        {
             let oi = o as usize;
-            if work.done[oi] || cost > work.cost[oi] {
+            if work.done[oi] || optimal::lower(work.cost[oi], work.depth[oi], cost, depth) {
                 continue;
             }
             work.done[oi] = true;
@@ -487,6 +515,7 @@ impl Local {
         for &y in list {
             let yi = y as usize;
             work.cost[yi] = f64::INFINITY;
+            work.depth[yi] = 0;
             work.choice[yi] = NONE;
             work.done[yi] = false;
             for &f in &self.made_by[yi] {
@@ -513,6 +542,9 @@ impl Local {
                     work.fstamp[xi] = e;
                     work.done[xi] = true;
                     work.cost[xi] = ocost[xi];
+                    // Every unit fired costs more than each input (checked): no input's
+                    // depth counts.
+                    work.depth[xi] = 0;
                 }
                 if !ocost[xi].is_finite() {
                     left += 1;
@@ -531,9 +563,9 @@ impl Local {
             (fx == NONE || fx == f) && !(work.banned[y as usize] && c.banned.contains(&(y, f)))
         };
         let fire = |f: u32, work: &mut Work| -> bool {
-            let (mut cost, mut top) = (w[f as usize], f64::NEG_INFINITY);
+            let (cost, d) = work.value(w[f as usize], &self.needed[f as usize]);
+            let mut top = f64::NEG_INFINITY;
             for &x in &self.needed[f as usize] {
-                cost += work.cost[x as usize];
                 top = top.max(work.cost[x as usize]);
             }
             for &y in &self.outs[f as usize] {
@@ -541,7 +573,7 @@ impl Local {
                 if work.stamp[yi] != e || work.done[yi] || !allowed(work, y, f) {
                     continue;
                 }
-                work.offer(y, f, cost);
+                work.offer(y, f, cost, d);
             }
             !cost.is_finite() || cost > top
         };
@@ -551,12 +583,17 @@ impl Local {
                 ok &= fire(f, work);
             }
         }
-        while let Some(Entry { cost, obj: o }) = work.heap.pop() {
+        while let Some(Entry {
+            cost,
+            depth,
+            obj: o,
+        }) = work.heap.pop()
+        {
             let oi = o as usize;
             if !ok {
                 break;
             }
-            if work.done[oi] || cost > work.cost[oi] {
+            if work.done[oi] || optimal::lower(work.cost[oi], work.depth[oi], cost, depth) {
                 continue;
             }
             work.done[oi] = true;

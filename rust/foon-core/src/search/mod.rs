@@ -22,6 +22,7 @@ mod tree;
 use std::time::Instant;
 
 pub use context::Context;
+pub(crate) use optimal::{better, lower, tie_depth};
 pub use plan::{Explanation, Plan};
 pub use query::{Compat, Count, Method, Query};
 pub use shared::{SharedObjective, SharedOptions};
@@ -108,4 +109,13 @@ impl Context<'_> {
         plan.unrated = m.unrated;
         plan.leaf_inputs = m.leaf_inputs;
     }
+}
+
+/// Computes the kitchen's optimum of `objective` (for the tests of incremental kitchens).
+#[cfg(test)]
+pub(crate) fn compute_optimum(
+    ctx: &Context<'_>,
+    objective: crate::prepare::Objective,
+) -> Result<()> {
+    optimal::optimum(ctx, objective).map(|_| ())
 }

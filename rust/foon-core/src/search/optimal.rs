@@ -20,11 +20,13 @@ use crate::error::Result;
 use crate::index::NONE;
 use crate::prepare::{Objective, Optimum};
 
-/// An entry of the heap of Knuth's algorithm: a min-heap on (cost, object id). The searches
-/// built on it (k best, fewest distinct units, the robot/human split) share it.
+/// An entry of the heap of Knuth's algorithm: a min-heap on (cost, depth, object id), the
+/// depth being the tie key of [`tie_depth`] (0 for the searches that do not use it). The
+/// searches built on it (k best, fewest distinct units, the robot/human split) share it.
 #[derive(PartialEq)]
 pub(super) struct Entry {
     pub(super) cost: f64,
+    pub(super) depth: u32,
     pub(super) obj: u32,
 }
 
@@ -32,10 +34,11 @@ impl Eq for Entry {}
 
 impl Ord for Entry {
     fn cmp(&self, other: &Self) -> Ordering {
-        // Min-heap on (cost, object id).
+        // Min-heap on (cost, depth, object id).
         other
             .cost
             .total_cmp(&self.cost)
+            .then(other.depth.cmp(&self.depth))
             .then(other.obj.cmp(&self.obj))
     }
 }
@@ -44,6 +47,42 @@ impl PartialOrd for Entry {
     fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
         Some(self.cmp(other))
     }
+}
+
+/// The tie key of a unit of cost `c` whose needed inputs have the (cost, depth) pairs
+/// `inputs`: one more than the largest depth of an input that costs exactly `c` (a step that
+/// does not raise the cost), 0 when every input costs less. Objects are ordered by (cost,
+/// depth): a unit's (cost, depth) is then above each of its inputs', so ties never depend on
+/// the order in which equal-cost objects are finalised (see `docs/METHODS.md`).
+#[inline]
+pub(crate) fn tie_depth(c: f64, inputs: impl IntoIterator<Item = (f64, u32)>) -> u32 {
+    let mut d = 0;
+    for (xc, xd) in inputs {
+        // Exact equality on purpose: only a step that leaves the sum unchanged counts.
+        #[allow(clippy::float_cmp)]
+        if xc == c {
+            d = d.max(xd + 1);
+        }
+    }
+    d
+}
+
+/// Whether a unit offering (`c`, `d`) as unit `f` beats the current (`old_c`, `old_d`) with
+/// choice `old_f`: a lower (cost, depth), or the same with a lower unit index. Costs are
+/// compared exactly.
+#[inline]
+pub(crate) fn better(c: f64, d: u32, f: u32, old_c: f64, old_d: u32, old_f: u32) -> bool {
+    match c.total_cmp(&old_c).then(d.cmp(&old_d)) {
+        Ordering::Less => true,
+        Ordering::Equal => f < old_f,
+        Ordering::Greater => false,
+    }
+}
+
+/// Whether (`c`, `d`) is strictly below (`old_c`, `old_d`).
+#[inline]
+pub(crate) fn lower(c: f64, d: u32, old_c: f64, old_d: u32) -> bool {
+    c.total_cmp(&old_c).then(d.cmp(&old_d)) == Ordering::Less
 }
 
 /// The part of the FOON that can matter for a goal: the objects from which it can be reached
@@ -100,10 +139,10 @@ pub(super) struct Knuth {
 }
 
 /// Knuth's algorithm for `goal`, over its ancestry: leaves (`is_leaf`) cost `leaf`, an FU
-/// weighs `weight`. Objects are finalised in (cost, id) order until the goal is; an object's
-/// choice is the lowest-index producer that set its final cost with all its needed inputs
-/// already final. When the goal cannot be reached, every object of its ancestry that can is
-/// final at the end.
+/// weighs `weight`. Objects are finalised in (cost, depth, id) order until the goal is (the
+/// depth of [`tie_depth`]); an object's choice is the lowest-index producer that sets its
+/// final (cost, depth), all its needed inputs being final before it. When the goal cannot be
+/// reached, every object of its ancestry that can is final at the end.
 pub(super) fn knuth(
     ctx: &Context<'_>,
     goal: u32,
@@ -114,6 +153,7 @@ pub(super) fn knuth(
     let foon = ctx.foon;
     let sub = ancestry(ctx, goal, is_leaf)?;
     let mut cost = ctx.id_map(foon.object_count(), f64::INFINITY);
+    let mut depth = ctx.id_map(foon.object_count(), 0u32);
     let mut choice = ctx.id_map(foon.object_count(), NONE);
     let mut done = ctx.id_map(foon.object_count(), false);
     let mut left = ctx.id_map(foon.fu_count(), 0u32);
@@ -127,11 +167,16 @@ pub(super) fn knuth(
     for &o in &sub.objects {
         if is_leaf(o) {
             cost.set(o, leaf);
-            heap.push(Entry { cost: leaf, obj: o });
+            heap.push(Entry {
+                cost: leaf,
+                depth: 0,
+                obj: o,
+            });
         }
     }
     let fire = |f: u32,
                 cost: &mut IdMap<f64>,
+                depth: &mut IdMap<u32>,
                 choice: &mut IdMap<u32>,
                 done: &IdMap<bool>,
                 heap: &mut BinaryHeap<Entry>|
@@ -140,19 +185,29 @@ pub(super) fn knuth(
         for &x in ctx.needed(f) {
             c += cost.get(x);
         }
+        if c == f64::INFINITY {
+            // A unit of infinite cost (a motion of rate 0) sets nothing.
+            return Ok(());
+        }
+        let d = tie_depth(
+            c,
+            ctx.needed(f).iter().map(|&x| (cost.get(x), depth.get(x))),
+        );
         for &y in foon.outputs(f) {
             if !sub.has_object.get(y) || done.get(y) || is_leaf(y) || foon.is_bare(y) {
                 continue;
             }
-            let (old_cost, old_choice) = (cost.get(y), choice.get(y));
-            // Equal costs are compared exactly on purpose: the tie goes to the lower index.
-            #[allow(clippy::float_cmp)]
-            let better = c < old_cost || (c == old_cost && f < old_choice);
-            if better {
-                if c < old_cost {
-                    heap.push(Entry { cost: c, obj: y });
+            let (old_cost, old_depth) = (cost.get(y), depth.get(y));
+            if better(c, d, f, old_cost, old_depth, choice.get(y)) {
+                if lower(c, d, old_cost, old_depth) {
+                    heap.push(Entry {
+                        cost: c,
+                        depth: d,
+                        obj: y,
+                    });
                 }
                 cost.set(y, c);
+                depth.set(y, d);
                 choice.set(y, f);
             }
         }
@@ -160,11 +215,16 @@ pub(super) fn knuth(
     };
     for &f in &sub.fus {
         if left.get(f) == 0 {
-            fire(f, &mut cost, &mut choice, &done, &mut heap)?;
+            fire(f, &mut cost, &mut depth, &mut choice, &done, &mut heap)?;
         }
     }
-    while let Some(Entry { cost: c, obj: o }) = heap.pop() {
-        if done.get(o) || c > cost.get(o) {
+    while let Some(Entry {
+        cost: c,
+        depth: d,
+        obj: o,
+    }) = heap.pop()
+    {
+        if done.get(o) || lower(cost.get(o), depth.get(o), c, d) {
             continue;
         }
         done.set(o, true);
@@ -182,7 +242,7 @@ pub(super) fn knuth(
             let l = left.get(f) - 1;
             left.set(f, l);
             if l == 0 {
-                fire(f, &mut cost, &mut choice, &done, &mut heap)?;
+                fire(f, &mut cost, &mut depth, &mut choice, &done, &mut heap)?;
             }
         }
         peak = peak.max(heap.len());
@@ -203,25 +263,37 @@ pub(super) fn knuth(
 
 /// Knuth's algorithm from the kitchen over the whole FOON, to the end: leaves (`is_leaf`)
 /// cost `leaf`, an FU weighs `weight`; the same rules as [`knuth`], in time near-linear in the
-/// FOON (one queue entry per improvement of an object's cost). Each object's cost, choice and
-/// state sit side by side (one cache line read per look-up on a FOON far larger than the
-/// caches), and the queue is the radix heap of `radix.rs`, whose pops are those of a binary
-/// heap of [`Entry`].
-fn knuth_all(
+/// FOON (one queue entry per improvement of an object's cost). Each object's cost, choice,
+/// depth and state sit side by side (one cache line read per look-up on a FOON far larger
+/// than the caches), and the queue is the radix heap of `radix.rs`, whose pops are those of a
+/// binary heap of [`Entry`].
+pub(crate) fn knuth_all(
     ctx: &Context<'_>,
     is_leaf: &dyn Fn(u32) -> bool,
     leaf: f64,
     weight: &dyn Fn(u32) -> f64,
 ) -> Result<Optimum> {
+    // The low two bits of `tag` are the state, the others the depth.
     const OPEN: u32 = 0;
     const DONE: u32 = 1;
     // A leaf not yet final, or an object whose cost no unit sets (a bare output).
     const FIXED: u32 = 2;
+    const STATE: u32 = 3;
     #[derive(Clone, Copy)]
     struct Slot {
         cost: f64,
         choice: u32,
-        state: u32,
+        tag: u32,
+    }
+    impl Slot {
+        #[inline]
+        fn depth(self) -> u32 {
+            self.tag >> 2
+        }
+        #[inline]
+        fn state(self) -> u32 {
+            self.tag & STATE
+        }
     }
     let foon = ctx.foon;
     let n = foon.object_count();
@@ -229,7 +301,7 @@ fn knuth_all(
         Slot {
             cost: f64::INFINITY,
             choice: NONE,
-            state: OPEN,
+            tag: OPEN,
         };
         n
     ];
@@ -239,10 +311,10 @@ fn knuth_all(
     for (o, slot) in (0..n as u32).zip(slots.iter_mut()) {
         if is_leaf(o) {
             slot.cost = leaf;
-            slot.state = FIXED;
+            slot.tag = FIXED;
             leaves.push(o);
         } else if foon.is_bare(o) {
-            slot.state = FIXED;
+            slot.tag = FIXED;
         }
     }
     let mut left: Vec<u32> = (0..foon.fu_count() as u32)
@@ -254,20 +326,33 @@ fn knuth_all(
         for &x in ctx.needed(f) {
             c += slots[x as usize].cost;
         }
+        if c == f64::INFINITY {
+            // A unit of infinite cost (a motion of rate 0) sets nothing.
+            return;
+        }
+        let d = tie_depth(
+            c,
+            ctx.needed(f).iter().map(|&x| {
+                let s = slots[x as usize];
+                (s.cost, s.depth())
+            }),
+        );
         for &y in foon.outputs(f) {
             let s = &mut slots[y as usize];
-            if s.state != OPEN {
+            if s.state() != OPEN {
                 continue;
             }
-            // Equal costs are compared exactly on purpose: the tie goes to the lower index.
-            #[allow(clippy::float_cmp)]
-            let better = c < s.cost || (c == s.cost && f < s.choice);
-            if better {
-                if c < s.cost {
-                    queue.push(Entry { cost: c, obj: y });
+            if better(c, d, f, s.cost, s.depth(), s.choice) {
+                if lower(c, d, s.cost, s.depth()) {
+                    queue.push(Entry {
+                        cost: c,
+                        depth: d,
+                        obj: y,
+                    });
                 }
                 s.cost = c;
                 s.choice = f;
+                s.tag = (d << 2) | OPEN;
             }
         }
     };
@@ -284,22 +369,34 @@ fn knuth_all(
             (None, Some(_)) => true,
             (Some(_), None) => false,
             // `Entry` orders the least as the greatest (a min-heap).
-            (Some(top), Some(&l)) => Entry { cost: leaf, obj: l } > *top,
+            (Some(top), Some(&l)) => {
+                Entry {
+                    cost: leaf,
+                    depth: 0,
+                    obj: l,
+                } > *top
+            }
         };
         let o = if from_leaves {
             next_leaf += 1;
             leaves[next_leaf - 1]
         } else {
-            let Some(Entry { cost: c, obj: o }) = queue.pop() else {
+            let Some(Entry {
+                cost: c,
+                depth: d,
+                obj: o,
+            }) = queue.pop()
+            else {
                 break;
             };
-            let s = &slots[o as usize];
-            if s.state == DONE || c > s.cost {
+            let s = slots[o as usize];
+            if s.state() == DONE || lower(s.cost, s.depth(), c, d) {
                 continue;
             }
             o
         };
-        slots[o as usize].state = DONE;
+        let s = &mut slots[o as usize];
+        s.tag = (s.tag & !STATE) | DONE;
         finalised += 1;
         if finalised % 4096 == 0 {
             ctx.check_stop()?;
@@ -312,17 +409,25 @@ fn knuth_all(
             }
         }
     }
-    let (cost, choice) = slots
-        .iter()
-        .map(|s| {
-            if s.state == DONE {
-                (s.cost, s.choice)
-            } else {
-                (f64::INFINITY, NONE)
-            }
-        })
-        .unzip();
-    Ok(Optimum { cost, choice })
+    let mut cost = Vec::with_capacity(n);
+    let mut choice = Vec::with_capacity(n);
+    let mut depth = Vec::with_capacity(n);
+    for s in &slots {
+        if s.state() == DONE {
+            cost.push(s.cost);
+            choice.push(s.choice);
+            depth.push(s.depth());
+        } else {
+            cost.push(f64::INFINITY);
+            choice.push(NONE);
+            depth.push(0);
+        }
+    }
+    Ok(Optimum {
+        cost,
+        choice,
+        depth,
+    })
 }
 
 /// The optimum of `objective` for the context's kitchen (computed on first use). The

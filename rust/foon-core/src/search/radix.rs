@@ -1,5 +1,5 @@
 //! A monotone priority queue for Knuth's algorithm: a radix heap on the bits of the cost, with
-//! exactly the pops of a binary min-heap on (cost, object id).
+//! exactly the pops of a binary min-heap on (cost, depth, object id).
 //!
 //! Knuth's algorithm over non-negative weights pushes costs that are never below the last one
 //! popped (a unit's cost is its weight plus its inputs' costs, and adding non-negative floats
@@ -9,7 +9,7 @@
 //! cost of a non-negative `f64` orders as its bit pattern, so the buckets hold the index of
 //! the highest bit in which an entry's cost differs from the last popped one.
 //!
-//! Ties: the searches break equal costs by object id (the order of [`Entry`]), so the entries
+//! Ties: the searches break equal costs by depth and object id (the order of [`Entry`]), so the entries
 //! whose cost equals the last popped one (bucket 0) are kept in a small binary heap of
 //! [`Entry`]. An entry pushed below the last popped cost (which the searches never do) also
 //! goes there, so the pops are always those of a binary heap of [`Entry`]: everything in
@@ -19,7 +19,7 @@ use std::collections::BinaryHeap;
 
 use super::optimal::Entry;
 
-/// A min-queue on (cost, object id) for non-negative, monotone costs (see the module
+/// A min-queue on (cost, depth, object id) for non-negative, monotone costs (see the module
 /// documentation).
 pub(super) struct RadixQueue {
     /// Bits of the last cost that bucket 0 was refilled at.
@@ -27,8 +27,8 @@ pub(super) struct RadixQueue {
     /// Entries whose cost is at most `last`, popped in [`Entry`] order.
     low: BinaryHeap<Entry>,
     /// `buckets[i]`: entries whose cost first differs from `last` in bit `i` (from 0, the
-    /// lowest), as (cost bits, object).
-    buckets: Vec<Vec<(u64, u32)>>,
+    /// lowest), as (cost bits, depth, object).
+    buckets: Vec<Vec<(u64, u32, u32)>>,
 }
 
 impl RadixQueue {
@@ -49,7 +49,7 @@ impl RadixQueue {
             self.low.push(e);
         } else {
             let b = 63 - (k ^ self.last).leading_zeros() as usize;
-            self.buckets[b].push((k, e.obj));
+            self.buckets[b].push((k, e.depth, e.obj));
         }
     }
 
@@ -63,12 +63,13 @@ impl RadixQueue {
             return;
         };
         let mut moved = std::mem::take(&mut self.buckets[b]);
-        let least = moved.iter().map(|&(k, _)| k).min().unwrap_or(self.last);
+        let least = moved.iter().map(|&(k, _, _)| k).min().unwrap_or(self.last);
         self.last = least;
-        for &(k, obj) in &moved {
+        for &(k, depth, obj) in &moved {
             if k == least {
                 self.low.push(Entry {
                     cost: f64::from_bits(k),
+                    depth,
                     obj,
                 });
             } else {
@@ -76,7 +77,7 @@ impl RadixQueue {
                 // Every entry of bucket `b` agrees with `least` above bit `b`, so it moves to
                 // a lower bucket.
                 debug_assert!(to < b);
-                self.buckets[to].push((k, obj));
+                self.buckets[to].push((k, depth, obj));
             }
         }
         moved.clear();
@@ -84,7 +85,7 @@ impl RadixQueue {
         self.buckets[b] = moved;
     }
 
-    /// The least entry (cost, then object id), without removing it.
+    /// The least entry (cost, then depth, then object id), without removing it.
     #[inline]
     pub(super) fn peek(&mut self) -> Option<&Entry> {
         self.refill();
@@ -114,16 +115,16 @@ mod tests {
         /// last pop), ties by object id, including repeated costs, zeros and stale entries.
         #[test]
         fn pops_as_a_binary_heap(ops in proptest::collection::vec(
-            (0u8..4, 0u32..50, 0u32..40), 1..400)) {
+            (0u8..4, 0u32..50, 0u32..40, 0u32..3), 1..400)) {
             let mut radix = RadixQueue::new();
             let mut heap = BinaryHeap::new();
             let mut floor = 0.0f64;
-            for (kind, obj, step) in ops {
+            for (kind, obj, step, depth) in ops {
                 if kind == 0 {
                     let a = radix.pop();
                     let b = heap.pop();
-                    prop_assert_eq!(a.as_ref().map(|e| (e.cost, e.obj)),
-                        b.as_ref().map(|e: &Entry| (e.cost, e.obj)));
+                    prop_assert_eq!(a.as_ref().map(|e| (e.cost, e.depth, e.obj)),
+                        b.as_ref().map(|e: &Entry| (e.cost, e.depth, e.obj)));
                     if let Some(e) = a {
                         floor = e.cost;
                     }
@@ -134,16 +135,16 @@ mod tests {
                     if cost == 0.0 && step % 2 == 1 {
                         cost = -0.0;
                     }
-                    radix.push(Entry { cost, obj });
-                    heap.push(Entry { cost, obj });
+                    radix.push(Entry { cost, depth, obj });
+                    heap.push(Entry { cost, depth, obj });
                 }
                 prop_assert_eq!(radix.len(), heap.len());
-                prop_assert_eq!(radix.peek().map(|e| (e.cost, e.obj)),
-                    heap.peek().map(|e| (e.cost, e.obj)));
+                prop_assert_eq!(radix.peek().map(|e| (e.cost, e.depth, e.obj)),
+                    heap.peek().map(|e| (e.cost, e.depth, e.obj)));
             }
             while let Some(b) = heap.pop() {
-                let a = radix.pop().map(|e| (e.cost, e.obj));
-                prop_assert_eq!(a, Some((b.cost, b.obj)));
+                let a = radix.pop().map(|e| (e.cost, e.depth, e.obj));
+                prop_assert_eq!(a, Some((b.cost, b.depth, b.obj)));
             }
             prop_assert!(radix.pop().is_none());
         }
@@ -155,7 +156,7 @@ mod tests {
             let mut radix = RadixQueue::new();
             let mut heap = BinaryHeap::new();
             for (i, &c) in costs.iter().enumerate() {
-                let e = || Entry { cost: f64::from(c), obj: i as u32 };
+                let e = || Entry { cost: f64::from(c), depth: (i % 2) as u32, obj: i as u32 };
                 radix.push(e());
                 heap.push(e());
                 if i % 3 == 0 {

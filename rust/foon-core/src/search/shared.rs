@@ -225,7 +225,11 @@ impl Hmax {
             for &y in &l.outputs[f as usize] {
                 if c < h[y as usize] {
                     h[y as usize] = c;
-                    heap.push(Entry { cost: c, obj: y });
+                    heap.push(Entry {
+                        cost: c,
+                        depth: 0,
+                        obj: y,
+                    });
                 }
             }
         };
@@ -234,7 +238,10 @@ impl Hmax {
                 fire(f, 0.0, &mut self.h, &mut self.heap);
             }
         }
-        while let Some(Entry { cost: c, obj: o }) = self.heap.pop() {
+        while let Some(Entry {
+            cost: c, obj: o, ..
+        }) = self.heap.pop()
+        {
             if self.done[o as usize] || c > self.h[o as usize] {
                 continue;
             }

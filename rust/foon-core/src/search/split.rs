@@ -159,6 +159,8 @@ struct Labels {
     label: Vec<f64>,
     /// choice[o * levels + m]: local unit, or NONE.
     choice: Vec<u32>,
+    /// depth[o * levels + m]: the tie key of `optimal::tie_depth` at level m.
+    depth: Vec<u32>,
     /// Per local unit u, (inputs(u) + 1) partial convolutions of `levels` values each,
     /// starting at `acc_start[u]`: `acc_0` is the unit's own choice, `acc_i` adds input i.
     acc_start: Vec<usize>,
@@ -256,6 +258,7 @@ impl Labels {
             levels,
             label: vec![f64::INFINITY; n * levels],
             choice: vec![NONE; n * levels],
+            depth: vec![0; n * levels],
             acc_start,
             acc: vec![f64::INFINITY; acc_len],
             expanded: 0,
@@ -318,8 +321,10 @@ impl Labels {
         for o in 0..n {
             if self.leaf[o] {
                 self.label[o * lv + m] = 0.0;
+                self.depth[o * lv + m] = 0;
                 heap.push(Entry {
                     cost: 0.0,
+                    depth: 0,
                     obj: self.objs[o],
                 });
             }
@@ -327,30 +332,42 @@ impl Labels {
         let mut fire = |s: &mut Self, u: usize, heap: &mut BinaryHeap<Entry>, done: &[bool]| {
             fired[u] = true;
             let c = s.convolve(u, m);
+            if c == f64::INFINITY {
+                // A unit of infinite cost sets nothing.
+                return;
+            }
+            let d = optimal::tie_depth(
+                c,
+                s.inputs(u).iter().map(|&x| {
+                    let i = x as usize * lv + m;
+                    (s.label[i], s.depth[i])
+                }),
+            );
             let f = s.fus[u];
             for j in s.outs_start[u]..s.outs_start[u + 1] {
                 let y = s.outs[j] as usize;
                 if done[y] {
                     continue;
                 }
-                let (old, old_choice) = (s.label[y * lv + m], s.choice[y * lv + m]);
+                let i = y * lv + m;
+                let (old, old_depth, old_choice) = (s.label[i], s.depth[i], s.choice[i]);
                 let old_fu = if old_choice == NONE {
                     NONE
                 } else {
                     s.fus[old_choice as usize]
                 };
-                // Equal costs are compared exactly on purpose: the tie goes to the lower index.
-                #[allow(clippy::float_cmp)]
-                let better = c < old || (c == old && f < old_fu);
-                if better {
-                    if c < old {
+                // Costs are compared exactly: the tie goes to the lower (depth, unit index).
+                if optimal::better(c, d, f, old, old_depth, old_fu) {
+                    if optimal::lower(c, d, old, old_depth) {
                         heap.push(Entry {
                             cost: c,
+                            depth: d,
                             obj: s.objs[y],
                         });
                     }
-                    s.label[y * lv + m] = c;
-                    s.choice[y * lv + m] = u as u32;
+                    s.label[i] = c;
+                    s.depth[i] = d;
+                    s.choice[i] = u as u32;
                 }
             }
         };
@@ -359,9 +376,14 @@ impl Labels {
                 fire(self, u, &mut heap, &done);
             }
         }
-        while let Some(Entry { cost: c, obj }) = heap.pop() {
+        while let Some(Entry {
+            cost: c,
+            depth: d,
+            obj,
+        }) = heap.pop()
+        {
             let o = self.local.get(obj) as usize;
-            if done[o] || c > self.label[o * lv + m] {
+            if done[o] || optimal::lower(self.label[o * lv + m], self.depth[o * lv + m], c, d) {
                 continue;
             }
             done[o] = true;

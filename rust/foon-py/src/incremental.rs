@@ -1,0 +1,47 @@
+//! `foon._foon.planner_with_changes`: a planner for a changed kitchen, prepared incrementally
+//! from a planner's preparation (`foon_core::Prepared::with_delta`).
+
+use std::sync::Arc;
+
+use pyo3::prelude::*;
+
+use crate::errors::enter;
+use crate::kitchen::PyKitchen;
+use crate::planner::PyPlanner;
+
+/// A planner over the same FOON, utensils, rates and level as `planner`, for its kitchen
+/// without the items of `remove` and with those of `add` (`kitchen`, that new kitchen,
+/// matched whole at levels 1 and 2, where one item may match several objects and several
+/// items one object; at level 3 an item is one object, so only the changes are matched). The
+/// change is applied to the planner's preparation, whose computed parts are updated rather
+/// than computed again; its results equal those of a planner prepared from scratch.
+#[pyfunction]
+pub(crate) fn planner_with_changes(
+    py: Python<'_>,
+    planner: &PyPlanner,
+    add: &PyKitchen,
+    remove: &PyKitchen,
+    kitchen: &PyKitchen,
+) -> PyResult<PyPlanner> {
+    let foon = Arc::clone(&planner.foon);
+    let (f, base) = (&*foon, &*planner.prep);
+    let (add, remove, kitchen) = (&*add.inner, &*remove.inner, &*kitchen.inner);
+    let prep = enter(py, |_| {
+        if base.level() != 3 {
+            let ids = kitchen.match_at_level(f, base.level())?;
+            return base.with_kitchen(f, &ids);
+        }
+        let mut added = add.match_in(f);
+        added.sort_unstable();
+        let removed: Vec<u32> = remove
+            .match_in(f)
+            .into_iter()
+            .filter(|o| added.binary_search(o).is_err())
+            .collect();
+        base.with_delta(f, &added, &removed)
+    })?;
+    Ok(PyPlanner {
+        foon,
+        prep: Arc::new(prep),
+    })
+}

@@ -1,0 +1,129 @@
+"""Incremental kitchens (docs/METHODS.md, "Incremental kitchens"): a planner for a kitchen given
+as a planner plus a delta (``Planner.with_changes``) gives exactly the results of a planner
+prepared from scratch for the new kitchen: the ranks, and every method's plan (units, cost,
+explanation, counts) for every object, whether the base planner had computed its ranks,
+choices and costs before the change or not; on generated FOONs (cycles, duplicates,
+self-loops, bare outputs, the container rule, rates of 0 and 1) with random kitchens and deltas,
+and on the course FOON."""
+
+from __future__ import annotations
+
+import random
+
+import foon
+import pytest
+from conftest import Course
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_differential import RESULT_FIELDS, Case, GenFoon, draw_case, gen_foons
+
+#: Every sound method (the ones whose preparation is per kitchen) and the course loop.
+METHODS = ("ids", "optimal-success", "optimal-units", "optimal-inputs", "greedy-success",
+           "greedy-inputs")  # fmt: skip
+
+SETTINGS = settings(max_examples=200, deadline=None, derandomize=True,
+                    suppress_health_check=[HealthCheck.too_slow,
+                                           HealthCheck.data_too_large])  # fmt: skip
+
+
+def results(p: foon.Planner) -> dict[str, list[tuple[object, ...]]]:
+    """Every method's plan for every object, as tuples of every result field."""
+    goals = list(range(p.foon.object_count))
+    return {
+        m: [tuple(getattr(t, a) for a in RESULT_FIELDS) for t in p.plan_many(goals, m, threads=1)]
+        for m in METHODS
+    }
+
+
+def check(base: foon.Planner, add: list[foon.Object], remove: list[foon.Object],
+          warm: bool) -> None:  # fmt: skip
+    """`base.with_changes(add, remove)` against a planner prepared from scratch; with `warm`,
+    the base has computed everything (ranks, choices, costs) before the change."""
+    if warm:
+        base.ranks()
+        results(base)
+    inc = base.with_changes(add=add, remove=remove)
+    kitchen = base.kitchen.without(remove).with_items(add)
+    fresh = foon.Planner(base.foon, kitchen, motions=base.motions, utensils=base.utensils,
+                         level=base.level)  # fmt: skip
+    assert inc.kitchen == kitchen
+    assert inc == fresh
+    assert inc.ranks() == fresh.ranks()
+    assert results(inc) == results(fresh)
+
+
+def objects_of(f: foon.Foon, ids: list[int]) -> list[foon.Object]:
+    return [f.object(i) for i in ids]
+
+
+@SETTINGS
+@given(g=gen_foons(), data=st.data())
+def test_generated_foons(g: GenFoon, data: st.DataObject) -> None:
+    """Random FOONs and kitchens (matched at identity level 3, 2 or 1), random deltas of up to
+    four additions and four removals (objects of the FOON, kitchen items or not, and an item
+    the FOON does not have)."""
+    case: Case = draw_case(data, g)
+    f = case.f
+    n = f.object_count
+    level = data.draw(st.sampled_from((3, 3, 2, 1)), label="level")
+    base = foon.Planner(f, case.rkitchen, motions=case.rates, utensils=sorted(case.utensils),
+                        level=level)  # fmt: skip
+    ids = st.lists(st.integers(0, n - 1), max_size=4)
+    add = objects_of(f, data.draw(ids, label="add"))
+    remove = objects_of(f, data.draw(ids, label="remove"))
+    if data.draw(st.booleans(), label="unknown item"):
+        add.append(foon.Object("truffle", ("sliced",)))
+    check(base, add, remove, warm=data.draw(st.booleans(), label="warm"))
+
+
+def test_changes_chain() -> None:
+    """A planner changed again and again (each from the previous one) stays equal to one
+    prepared from scratch."""
+    text = (
+        "O\ta\nS\tx\nM\tmix\nO\tb\nS\tx\n//\n"
+        "O\tb\nS\tx\nM\tmix\nO\tc\nS\tx\n//\n"
+        "M\tchop\nO\tc\nS\tx\n//\n"
+        "O\tc\nS\tx\nO\ta\nS\tx\nM\tmix\nO\td\nS\tx\n//\n"
+        "O\td\nS\tx\nM\tmix\nO\ta\nS\tx\n//\n"
+    )
+    f = foon.Foon.from_text(text)
+    p = foon.Planner(f, [f.object(0)], motions={"mix": 0.5, "chop": 1.0})
+    rnd = random.Random(3)
+    for _ in range(30):
+        add = objects_of(f, rnd.sample(range(f.object_count), rnd.randint(0, 2)))
+        remove = objects_of(f, rnd.sample(range(f.object_count), rnd.randint(0, 2)))
+        check(p, add, remove, warm=True)
+        p = p.with_changes(add=add, remove=remove)
+
+
+def test_no_change_and_bad_items() -> None:
+    f = foon.Foon.from_text("O\ta\nS\tx\nM\tmix\nO\tb\nS\tx\n//\n")
+    p = foon.Planner(f, [f.object(0)])
+    p.ranks()
+    same = p.with_changes()
+    assert same == p and same.ranks() == p.ranks() == [0, 1]
+    gone = p.with_changes(remove=[f.object(0)])
+    assert gone.ranks() == [None, None]
+    with pytest.raises(TypeError):
+        p.with_changes(add=[42])  # type: ignore[list-item]
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_course_deltas(course: Course, seed: int) -> None:
+    """The course FOON with its kitchen, utensils and rates: deltas of one to ten items
+    (additions from the FOON's objects, removals from the kitchen, both)."""
+    f = course.foon
+    base = foon.Planner(f, course.kitchen, motions=course.motions, utensils=course.utensils)
+    base.ranks()
+    results(base)
+    rnd = random.Random(seed)
+    items = list(course.kitchen)
+    for size in (1, 3, 10):
+        add = objects_of(f, rnd.sample(range(f.object_count), size))
+        remove = rnd.sample(items, min(size, len(items)))
+        for a, r in ((add, []), ([], remove), (add[: size // 2 + 1], remove[: size // 2])):
+            inc = base.with_changes(add=a, remove=r)
+            fresh = foon.Planner(f, course.kitchen.without(r).with_items(a),
+                                 motions=course.motions, utensils=course.utensils)  # fmt: skip
+            assert inc.ranks() == fresh.ranks()
+            assert results(inc) == results(fresh)
