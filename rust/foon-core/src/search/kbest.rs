@@ -15,11 +15,14 @@
 //! once, at its lowest cost.
 
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::BinaryHeap;
+
+use rustc_hash::FxHashSet;
 
 use super::optimal::Entry;
 use super::{Context, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
+use crate::evaluate::TreeMetrics;
 use crate::index::NONE;
 use crate::prepare::{Objective, Optimum};
 
@@ -47,13 +50,13 @@ pub(super) struct Local {
     leaf: Vec<bool>,
     /// Global id of each local unit.
     fus: Vec<u32>,
-    needed: Vec<Vec<u32>>,
+    needed: Lists,
     /// Outputs a unit can set: in the ancestry, not a leaf, not bare.
-    outs: Vec<Vec<u32>>,
+    outs: Lists,
     /// Units needing an object, once per needed slot.
-    needed_by: Vec<Vec<u32>>,
+    needed_by: Lists,
     /// Units that can set an object (those with it in `outs`).
-    made_by: Vec<Vec<u32>>,
+    made_by: Lists,
     weight: Vec<f64>,
     leaf_cost: f64,
     goal: u32,
@@ -85,6 +88,61 @@ fn weights(ctx: &Context<'_>, method: Method, fus: &[u32]) -> Result<(Vec<f64>, 
             )));
         }
     })
+}
+
+/// One list of local ids per local object or unit, in one flat array: list `i` is
+/// `data[start[i]..start[i + 1]]`.
+struct Lists {
+    start: Vec<u32>,
+    data: Vec<u32>,
+}
+
+impl Lists {
+    fn with_capacity(n: usize) -> Self {
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0);
+        Self {
+            start,
+            data: Vec::with_capacity(n * 2),
+        }
+    }
+
+    /// Ends the list being filled (the elements pushed on `data` since the last one).
+    fn close(&mut self) {
+        self.start.push(self.data.len() as u32);
+    }
+
+    fn lists(&self) -> impl Iterator<Item = &[u32]> {
+        (0..self.start.len() - 1).map(|i| &self[i])
+    }
+
+    /// The lists of the other side: list `x` holds every `i` whose list holds `x`, once per
+    /// occurrence, in increasing `i`.
+    fn transpose(&self, n: usize) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for &x in &self.data {
+            start[x as usize + 1] += 1;
+        }
+        for j in 0..n {
+            start[j + 1] += start[j];
+        }
+        let mut fill = start[..n].to_vec();
+        let mut data = vec![0u32; self.data.len()];
+        for (i, l) in self.lists().enumerate() {
+            for &x in l {
+                data[fill[x as usize] as usize] = i as u32;
+                fill[x as usize] += 1;
+            }
+        }
+        Self { start, data }
+    }
+}
+
+impl std::ops::Index<usize> for Lists {
+    type Output = [u32];
+    fn index(&self, i: usize) -> &[u32] {
+        &self.data[self.start[i] as usize..self.start[i + 1] as usize]
+    }
 }
 
 impl Local {
@@ -128,32 +186,30 @@ impl Local {
             at.set(o, i as u32);
         }
         let leaf: Vec<bool> = objs.iter().map(|&o| ctx.in_kitchen(o)).collect();
-        let mut needed_by = vec![Vec::new(); objs.len()];
-        let mut needed = Vec::with_capacity(fus.len());
-        let mut outs = Vec::with_capacity(fus.len());
-        for (i, &f) in fus.iter().enumerate() {
-            let ins: Vec<u32> = ctx.needed(f).iter().map(|&x| at.get(x)).collect();
-            for &x in &ins {
-                needed_by[x as usize].push(i as u32);
+        let mut needed = Lists::with_capacity(fus.len());
+        let mut outs = Lists::with_capacity(fus.len());
+        for &f in &fus {
+            needed.data.extend(ctx.needed(f).iter().map(|&x| at.get(x)));
+            needed.close();
+            let from = outs.data.len();
+            for &y in foon.outputs(f) {
+                if foon.is_bare(y) {
+                    continue;
+                }
+                let y = at.get(y);
+                // Repeats in a row once, as the unit's output list is read.
+                if y != NONE
+                    && !leaf[y as usize]
+                    && (outs.data.len() == from || outs.data.last() != Some(&y))
+                {
+                    outs.data.push(y);
+                }
             }
-            needed.push(ins);
-            let mut os: Vec<u32> = foon
-                .outputs(f)
-                .iter()
-                .filter(|&&y| !foon.is_bare(y))
-                .map(|&y| at.get(y))
-                .filter(|&y| y != NONE && !leaf[y as usize])
-                .collect();
-            os.dedup();
-            outs.push(os);
+            outs.close();
         }
+        let needed_by = needed.transpose(objs.len());
+        let made_by = outs.transpose(objs.len());
         let (weight, leaf_cost) = weights(ctx, method, &fus)?;
-        let mut made_by = vec![Vec::new(); objs.len()];
-        for (i, os) in outs.iter().enumerate() {
-            for &y in os {
-                made_by[y as usize].push(i as u32);
-            }
-        }
         let opt = prepared(ctx, method)?.and_then(|o| {
             let cost: Vec<f64> = objs.iter().map(|&x| o.cost[x as usize]).collect();
             let choice = objs
@@ -167,7 +223,7 @@ impl Local {
         });
         let strict = opt.as_ref().is_some_and(|(cost, _)| {
             weight.iter().all(|&w| w > 0.0)
-                && needed.iter().zip(&weight).all(|(ins, &w)| {
+                && needed.lists().zip(&weight).all(|(ins, &w)| {
                     let (mut c, mut top) = (w, f64::NEG_INFINITY);
                     for &x in ins {
                         c += cost[x as usize];
@@ -629,6 +685,89 @@ impl Local {
         (pre, units)
     }
 
+    /// `Context::metrics` of a tree of this graph (`units`: global ids, each in the
+    /// ancestry), over the local ids: the height is the least fixpoint of the ranks of the
+    /// objects the units make from the kitchen (an object's rank is one more than the largest
+    /// rank of the needed inputs of the first unit to make it, breadth first), which only the
+    /// ancestry's objects take part in for the goal (every needed input of a unit of the
+    /// ancestry is in it); the leaf inputs are the distinct kitchen objects the units need.
+    fn metrics(&self, ctx: &Context<'_>, units: &[u32]) -> TreeMetrics {
+        let mut us: Vec<u32> = units
+            .iter()
+            .filter_map(|f| self.fus.binary_search(f).ok().map(|i| i as u32))
+            .collect();
+        us.sort_unstable();
+        us.dedup();
+        let mut pos = vec![NONE; self.fus.len()];
+        let mut left = vec![0u32; us.len()];
+        let mut rank = vec![NONE; self.objs.len()];
+        let mut leaves = 0;
+        // First in, first out: `queue[next..]` is still to be read.
+        let mut queue: Vec<(u32, u32)> = Vec::with_capacity(us.len());
+        let fire = |f: u32, r: u32, rank: &mut [u32], queue: &mut Vec<(u32, u32)>| {
+            for &y in &self.outs[f as usize] {
+                if rank[y as usize] == NONE {
+                    rank[y as usize] = r;
+                    queue.push((y, r));
+                }
+            }
+        };
+        // Kitchen objects counted once each: their rank slot marks them seen (they have no
+        // rank: units never set a leaf).
+        for (i, &f) in us.iter().enumerate() {
+            pos[f as usize] = i as u32;
+            for &x in &self.needed[f as usize] {
+                if !self.leaf[x as usize] {
+                    left[i] += 1;
+                } else if rank[x as usize] == NONE {
+                    rank[x as usize] = 0;
+                    leaves += 1;
+                }
+            }
+        }
+        for (i, &f) in us.iter().enumerate() {
+            if left[i] == 0 {
+                fire(f, 1, &mut rank, &mut queue);
+            }
+        }
+        let mut next = 0;
+        while let Some(&(o, r)) = queue.get(next) {
+            next += 1;
+            for &f in &self.needed_by[o as usize] {
+                let i = pos[f as usize];
+                if i != NONE {
+                    left[i as usize] -= 1;
+                    if left[i as usize] == 0 {
+                        fire(f, r + 1, &mut rank, &mut queue);
+                    }
+                }
+            }
+        }
+        let height = match rank[self.goal as usize] {
+            NONE => None,
+            r => Some(r),
+        };
+        let unrated = if ctx.rates_given() {
+            units
+                .iter()
+                .copied()
+                .find(|&f| ctx.fu_rates().get(f as usize).is_none_or(|r| r.is_nan()))
+        } else {
+            None
+        };
+        let success = (ctx.rates_given() && unrated.is_none()).then(|| {
+            units
+                .iter()
+                .fold(1.0, |acc, &f| acc * ctx.fu_rates()[f as usize])
+        });
+        TreeMetrics {
+            height,
+            success,
+            unrated,
+            leaf_inputs: leaves,
+        }
+    }
+
     /// The cost of a tree under the weights `w`, by the definition (a shared sub-goal counts
     /// once per use; inputs summed in input order after the unit's weight).
     fn tree_cost(&self, w: &[f64], preorder: &[(u32, u32)]) -> f64 {
@@ -780,7 +919,7 @@ struct Partition {
     /// Subspaces listed (popped solved) so far, and those whose children may be in the heap.
     popped: u64,
     parents: Vec<Parent>,
-    listed: HashSet<Vec<u32>>,
+    listed: FxHashSet<Vec<u32>>,
     work: Work,
     scratch: ReadScratch,
     bounds: Bounds,
@@ -804,7 +943,7 @@ impl Partition {
             heap: BinaryHeap::new(),
             popped: 0,
             parents: Vec::new(),
-            listed: HashSet::new(),
+            listed: FxHashSet::default(),
             work,
             scratch: ReadScratch::new(g),
             bounds: Bounds::default(),
@@ -827,12 +966,15 @@ impl Partition {
         let Some(pa) = self.parents.get(parent as usize) else {
             return Constraints::default();
         };
-        let mut fixed = pa.c.fixed.clone();
-        for &(o, f) in &pa.preorder[..at as usize] {
-            if !pa.c.fixed.iter().any(|&(x, _)| x == o) {
-                fixed.push((o, f));
-            }
-        }
+        // The parent's fixed objects are the start of its pre-order (its tree reaches them
+        // first, through their fixed choices, as the tree it was cut from did), and its
+        // children cut after them.
+        let from = pa.c.fixed.len();
+        debug_assert!(from <= at as usize);
+        debug_assert!(pa.preorder[..from].iter().all(|p| pa.c.fixed.contains(p)));
+        let mut fixed = Vec::with_capacity(at as usize);
+        fixed.extend_from_slice(&pa.c.fixed);
+        fixed.extend_from_slice(&pa.preorder[from..at as usize]);
         let mut banned = pa.c.banned.clone();
         banned.push(pa.preorder[at as usize]);
         Constraints { fixed, banned }
@@ -1114,7 +1256,7 @@ pub struct KBest {
     given: Option<Vec<u32>>,
     diverse: bool,
     /// Diverse mode: the sets listed so far, and how many of them use each local unit.
-    earlier: HashSet<Vec<u32>>,
+    earlier: FxHashSet<Vec<u32>>,
     uses: Vec<u32>,
     evaluations: u64,
 }
@@ -1161,7 +1303,7 @@ impl KBest {
             pending,
             given: None,
             diverse,
-            earlier: HashSet::new(),
+            earlier: FxHashSet::default(),
             uses,
             evaluations: 0,
         })
@@ -1291,7 +1433,17 @@ impl KBest {
         p.units.clone_from(&r.units);
         p.cost = Some(r.cost);
         p.expanded = self.evaluations();
-        ctx.fill_metrics(&mut p);
+        match &self.graph {
+            Some(g) => {
+                let m = g.metrics(ctx, &r.units);
+                debug_assert_eq!(m, ctx.metrics(&r.units, self.goal));
+                p.height = m.height;
+                p.success = m.success;
+                p.unrated = m.unrated;
+                p.leaf_inputs = m.leaf_inputs;
+            }
+            None => ctx.fill_metrics(&mut p),
+        }
         p
     }
 }
