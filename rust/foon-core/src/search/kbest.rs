@@ -63,6 +63,9 @@ pub(super) struct Local {
     /// The kitchen's optimum in local ids (cost, choice), when prepared: the best tree of the
     /// whole space, and every object's best completion outside a subspace's constraints.
     opt: Option<(Vec<f64>, Vec<u32>)>,
+    /// With the optimum: the objects whose optimum's unit needs each object (once per needed
+    /// slot).
+    opt_users: Lists,
     /// Every unit weighs more than 0 and, at the optimum's costs, costs more than each of its
     /// inputs: Knuth then finalises objects in (cost, id) order (see `solve_seeded`).
     strict: bool,
@@ -232,6 +235,16 @@ impl Local {
                     !c.is_finite() || c > top
                 })
         });
+        let mut opt_needs = Lists::with_capacity(objs.len());
+        if let Some((_, choice)) = &opt {
+            for &f in choice {
+                if f != NONE {
+                    opt_needs.data.extend_from_slice(&needed[f as usize]);
+                }
+                opt_needs.close();
+            }
+        }
+        let opt_users = opt_needs.transpose(if opt.is_some() { objs.len() } else { 0 });
         Ok(Self {
             goal: at.get(goal),
             objs,
@@ -244,6 +257,7 @@ impl Local {
             weight,
             leaf_cost,
             opt,
+            opt_users,
             strict,
         })
     }
@@ -476,13 +490,13 @@ impl Local {
         let mut units = std::mem::take(&mut work.units);
         list.clear();
         units.clear();
-        // An object fixed to its optimum's choice keeps its cost and choice unless something
-        // in its ancestry is affected (then it is reached from there).
+        // The objects whose optimum's tree breaks a constraint (fixed to another unit than
+        // its choice, or its choice banned), and those whose optimum's tree holds one of them.
         let seeds = c
             .fixed
             .iter()
             .filter(|&&(o, f)| ochoice[o as usize] != f)
-            .chain(&c.banned);
+            .chain(c.banned.iter().filter(|&&(o, f)| ochoice[o as usize] == f));
         for &(o, _) in seeds {
             if work.stamp[o as usize] != e {
                 work.stamp[o as usize] = e;
@@ -492,12 +506,10 @@ impl Local {
         let mut i = 0;
         while let Some(&o) = list.get(i) {
             i += 1;
-            for &f in &self.needed_by[o as usize] {
-                for &y in &self.outs[f as usize] {
-                    if work.stamp[y as usize] != e {
-                        work.stamp[y as usize] = e;
-                        list.push(y);
-                    }
+            for &y in &self.opt_users[o as usize] {
+                if work.stamp[y as usize] != e {
+                    work.stamp[y as usize] = e;
+                    list.push(y);
                 }
             }
         }
@@ -685,25 +697,39 @@ impl Local {
         (pre, units)
     }
 
-    /// `Context::metrics` of a tree of this graph (`units`: global ids, each in the
-    /// ancestry), over the local ids: the height is the least fixpoint of the ranks of the
-    /// objects the units make from the kitchen (an object's rank is one more than the largest
-    /// rank of the needed inputs of the first unit to make it, breadth first), which only the
-    /// ancestry's objects take part in for the goal (every needed input of a unit of the
-    /// ancestry is in it); the leaf inputs are the distinct kitchen objects the units need.
-    fn metrics(&self, ctx: &Context<'_>, units: &[u32]) -> TreeMetrics {
-        let mut us: Vec<u32> = units
-            .iter()
-            .filter_map(|f| self.fus.binary_search(f).ok().map(|i| i as u32))
-            .collect();
+    /// `Context::metrics` of a tree of this graph (`preorder`: its objects with their local
+    /// choices; `units`: its units, global ids, in execution order), over the local ids: the
+    /// height is the least fixpoint of the ranks of the objects the units make from the
+    /// kitchen (an object's rank is one more than the largest rank of the needed inputs of the
+    /// first unit to make it, breadth first), which only the ancestry's objects take part in
+    /// for the goal (every needed input of a unit of the ancestry is in it); the leaf inputs
+    /// are the distinct kitchen objects the units need.
+    fn metrics(&self, ctx: &Context<'_>, preorder: &[(u32, u32)], units: &[u32]) -> TreeMetrics {
+        let mut us: Vec<u32> = preorder.iter().map(|&(_, f)| f).collect();
         us.sort_unstable();
         us.dedup();
-        let mut pos = vec![NONE; self.fus.len()];
         let mut left = vec![0u32; us.len()];
+        // Per object: its rank (0 marks a kitchen object counted), and the first of the
+        // needed slots waiting for it (a linked list through `slots`: unit, next).
         let mut rank = vec![NONE; self.objs.len()];
+        let mut head = vec![NONE; self.objs.len()];
+        let mut slots: Vec<(u32, u32)> = Vec::with_capacity(us.len() * 2);
         let mut leaves = 0;
+        for (i, &f) in us.iter().enumerate() {
+            for &x in &self.needed[f as usize] {
+                let xi = x as usize;
+                if !self.leaf[xi] {
+                    left[i] += 1;
+                    slots.push((i as u32, head[xi]));
+                    head[xi] = slots.len() as u32 - 1;
+                } else if rank[xi] == NONE {
+                    rank[xi] = 0;
+                    leaves += 1;
+                }
+            }
+        }
         // First in, first out: `queue[next..]` is still to be read.
-        let mut queue: Vec<(u32, u32)> = Vec::with_capacity(us.len());
+        let mut queue: Vec<(u32, u32)> = Vec::with_capacity(preorder.len());
         let fire = |f: u32, r: u32, rank: &mut [u32], queue: &mut Vec<(u32, u32)>| {
             for &y in &self.outs[f as usize] {
                 if rank[y as usize] == NONE {
@@ -712,19 +738,6 @@ impl Local {
                 }
             }
         };
-        // Kitchen objects counted once each: their rank slot marks them seen (they have no
-        // rank: units never set a leaf).
-        for (i, &f) in us.iter().enumerate() {
-            pos[f as usize] = i as u32;
-            for &x in &self.needed[f as usize] {
-                if !self.leaf[x as usize] {
-                    left[i] += 1;
-                } else if rank[x as usize] == NONE {
-                    rank[x as usize] = 0;
-                    leaves += 1;
-                }
-            }
-        }
         for (i, &f) in us.iter().enumerate() {
             if left[i] == 0 {
                 fire(f, 1, &mut rank, &mut queue);
@@ -733,14 +746,14 @@ impl Local {
         let mut next = 0;
         while let Some(&(o, r)) = queue.get(next) {
             next += 1;
-            for &f in &self.needed_by[o as usize] {
-                let i = pos[f as usize];
-                if i != NONE {
-                    left[i as usize] -= 1;
-                    if left[i as usize] == 0 {
-                        fire(f, r + 1, &mut rank, &mut queue);
-                    }
+            let mut slot = head[o as usize];
+            while slot != NONE {
+                let (i, after) = slots[slot as usize];
+                left[i as usize] -= 1;
+                if left[i as usize] == 0 {
+                    fire(us[i as usize], r + 1, &mut rank, &mut queue);
                 }
+                slot = after;
             }
         }
         let height = match rank[self.goal as usize] {
@@ -1237,6 +1250,8 @@ impl Partition {
 pub struct Ranked {
     pub units: Vec<u32>,
     pub cost: f64,
+    /// Its metrics, when computed over the goal's ancestry.
+    metrics: Option<TreeMetrics>,
 }
 
 /// The k best trees of `goal` for an optimal method, lazily (see the module comment).
@@ -1357,6 +1372,7 @@ impl KBest {
             return Ok(Some(Ranked {
                 units: Vec::new(),
                 cost,
+                metrics: None,
             }));
         }
         if self.pending {
@@ -1366,7 +1382,11 @@ impl KBest {
                 let cost = self.reported(o.cost[self.goal as usize]);
                 self.evaluations = 1;
                 self.given = Some(units.clone());
-                return Ok(Some(Ranked { units, cost }));
+                return Ok(Some(Ranked {
+                    units,
+                    cost,
+                    metrics: None,
+                }));
             }
         }
         if let Some(first) = self.given.take() {
@@ -1408,6 +1428,7 @@ impl KBest {
         }) else {
             return Ok(None);
         };
+        let metrics = Some(g.metrics(ctx, &s.preorder, &s.units));
         let cost = if self.diverse {
             let cost = g.tree_cost(&g.weight, &s.preorder);
             self.penalise(&s.units);
@@ -1418,6 +1439,7 @@ impl KBest {
         Ok(Some(Ranked {
             units: s.units,
             cost: self.reported(cost),
+            metrics,
         }))
     }
 
@@ -1433,9 +1455,8 @@ impl KBest {
         p.units.clone_from(&r.units);
         p.cost = Some(r.cost);
         p.expanded = self.evaluations();
-        match &self.graph {
-            Some(g) => {
-                let m = g.metrics(ctx, &r.units);
+        match r.metrics {
+            Some(m) => {
                 debug_assert_eq!(m, ctx.metrics(&r.units, self.goal));
                 p.height = m.height;
                 p.success = m.success;
