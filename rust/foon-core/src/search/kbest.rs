@@ -445,11 +445,13 @@ impl Local {
     }
 
     /// The best tree of a subspace from the kitchen's optimum: read from it for the whole
-    /// space; otherwise Knuth's algorithm over the *affected* objects only (the banned ones,
-    /// those fixed to another unit than the optimum's choice, and every object one of them is
-    /// in the ancestry of), seeded with the optimum's
-    /// final costs of the unaffected inputs of their units: the others keep the optimum's
-    /// cost and choice (their ancestry has no constraint). Exact when every unit costs more
+    /// space; otherwise Knuth's algorithm over the *affected* objects only (those whose
+    /// optimum's tree breaks a constraint: fixed to another unit than the optimum's choice, or
+    /// that choice banned; and every object whose optimum's tree holds one of them), seeded
+    /// with the optimum's final costs of the unaffected inputs of their units: the others keep
+    /// the optimum's cost and choice (their optimum's tree is in the subspace, and a
+    /// constraint only raises costs, so it is still the best, with the same lowest unit index
+    /// among those that set the cost). Exact when every unit costs more
     /// than each of its inputs (`strict`, checked again on each unit fired): Knuth then
     /// finalises objects in (cost, id) order, so every unit fires before the same objects as
     /// in the full run, and the choices (ties included) are the same.
