@@ -156,9 +156,10 @@ impl Local {
         // sorted.
         let mut at = ctx.id_map(foon.object_count(), NONE);
         let mut seen_f = ctx.id_map(foon.fu_count(), false);
-        let mut objs = vec![goal];
+        let mut objs = Vec::with_capacity(256);
+        objs.push(goal);
         at.set(goal, 0);
-        let mut fus = Vec::new();
+        let mut fus = Vec::with_capacity(256);
         let mut next = 0;
         while let Some(&o) = objs.get(next) {
             next += 1;
@@ -657,7 +658,7 @@ impl Local {
     /// depth-first post-order), as `tree::emit` reads them.
     fn read(
         &self,
-        choice: &dyn Fn(u32) -> u32,
+        choice: impl Fn(u32) -> u32,
         scratch: &mut ReadScratch,
     ) -> (Vec<(u32, u32)>, Vec<u32>) {
         let e = scratch.next_epoch(self);
@@ -665,10 +666,12 @@ impl Local {
             seen,
             emitted,
             stack,
+            size,
             ..
         } = scratch;
-        let mut pre = Vec::new();
-        let mut units = Vec::new();
+        // Room for a tree as large as the last one read, and a few more.
+        let mut pre = Vec::with_capacity(size.0 + 8);
+        let mut units = Vec::with_capacity(size.1 + 8);
         stack.clear();
         let mut visit = |o: u32, stack: &mut Vec<(u32, usize)>, emitted: &[u32]| {
             if self.leaf[o as usize] || seen[o as usize] == e {
@@ -696,6 +699,7 @@ impl Local {
                 }
             }
         }
+        *size = (pre.len(), units.len());
         (pre, units)
     }
 
@@ -706,16 +710,35 @@ impl Local {
     /// first unit to make it, breadth first), which only the ancestry's objects take part in
     /// for the goal (every needed input of a unit of the ancestry is in it); the leaf inputs
     /// are the distinct kitchen objects the units need.
-    fn metrics(&self, ctx: &Context<'_>, preorder: &[(u32, u32)], units: &[u32]) -> TreeMetrics {
-        let mut us: Vec<u32> = preorder.iter().map(|&(_, f)| f).collect();
+    fn metrics(
+        &self,
+        ctx: &Context<'_>,
+        preorder: &[(u32, u32)],
+        units: &[u32],
+        m: &mut MetricsScratch,
+    ) -> TreeMetrics {
+        let MetricsScratch {
+            us,
+            left,
+            rank,
+            head,
+            slots,
+            queue,
+        } = m;
+        us.clear();
+        us.extend(preorder.iter().map(|&(_, f)| f));
         us.sort_unstable();
         us.dedup();
-        let mut left = vec![0u32; us.len()];
+        left.clear();
+        left.resize(us.len(), 0);
         // Per object: its rank (0 marks a kitchen object counted), and the first of the
         // needed slots waiting for it (a linked list through `slots`: unit, next).
-        let mut rank = vec![NONE; self.objs.len()];
-        let mut head = vec![NONE; self.objs.len()];
-        let mut slots: Vec<(u32, u32)> = Vec::with_capacity(us.len() * 2);
+        rank.clear();
+        rank.resize(self.objs.len(), NONE);
+        head.clear();
+        head.resize(self.objs.len(), NONE);
+        slots.clear();
+        queue.clear();
         let mut leaves = 0;
         for (i, &f) in us.iter().enumerate() {
             for &x in &self.needed[f as usize] {
@@ -731,7 +754,6 @@ impl Local {
             }
         }
         // First in, first out: `queue[next..]` is still to be read.
-        let mut queue: Vec<(u32, u32)> = Vec::with_capacity(preorder.len());
         let fire = |f: u32, r: u32, rank: &mut [u32], queue: &mut Vec<(u32, u32)>| {
             for &y in &self.outs[f as usize] {
                 if rank[y as usize] == NONE {
@@ -742,7 +764,7 @@ impl Local {
         };
         for (i, &f) in us.iter().enumerate() {
             if left[i] == 0 {
-                fire(f, 1, &mut rank, &mut queue);
+                fire(f, 1, rank, queue);
             }
         }
         let mut next = 0;
@@ -753,7 +775,7 @@ impl Local {
                 let (i, after) = slots[slot as usize];
                 left[i as usize] -= 1;
                 if left[i as usize] == 0 {
-                    fire(us[i as usize], r + 1, &mut rank, &mut queue);
+                    fire(us[i as usize], r + 1, rank, queue);
                 }
                 slot = after;
             }
@@ -821,6 +843,17 @@ impl Local {
     }
 }
 
+/// Buffers of `Local::metrics`, kept between trees.
+#[derive(Default)]
+struct MetricsScratch {
+    us: Vec<u32>,
+    left: Vec<u32>,
+    rank: Vec<u32>,
+    head: Vec<u32>,
+    slots: Vec<(u32, u32)>,
+    queue: Vec<(u32, u32)>,
+}
+
 /// Stamped marks of `Local::read` (objects seen, units emitted) and its stack, kept between
 /// reads: nothing the size of the ancestry is allocated per subspace.
 struct ReadScratch {
@@ -828,6 +861,8 @@ struct ReadScratch {
     seen: Vec<u32>,
     emitted: Vec<u32>,
     stack: Vec<(u32, usize)>,
+    /// The last tree read: its pre-order's and its units' lengths.
+    size: (usize, usize),
 }
 
 impl ReadScratch {
@@ -837,6 +872,7 @@ impl ReadScratch {
             seen: vec![0; g.objs.len()],
             emitted: vec![0; g.fus.len()],
             stack: Vec::new(),
+            size: (0, 0),
         }
     }
 
@@ -1275,6 +1311,7 @@ pub struct KBest {
     /// Diverse mode: the sets listed so far, and how many of them use each local unit.
     earlier: FxHashSet<Vec<u32>>,
     uses: Vec<u32>,
+    scratch: MetricsScratch,
     evaluations: u64,
 }
 
@@ -1322,6 +1359,7 @@ impl KBest {
             diverse,
             earlier: FxHashSet::default(),
             uses,
+            scratch: MetricsScratch::default(),
             evaluations: 0,
         })
     }
@@ -1430,7 +1468,7 @@ impl KBest {
         }) else {
             return Ok(None);
         };
-        let metrics = Some(g.metrics(ctx, &s.preorder, &s.units));
+        let metrics = Some(g.metrics(ctx, &s.preorder, &s.units, &mut self.scratch));
         let cost = if self.diverse {
             let cost = g.tree_cost(&g.weight, &s.preorder);
             self.penalise(&s.units);
