@@ -926,6 +926,7 @@ enum Node {
 }
 
 /// A listed subspace, kept while its children may still be solved.
+#[derive(Default)]
 struct Parent {
     c: Constraints,
     preorder: Vec<(u32, u32)>,
@@ -978,6 +979,9 @@ struct Partition {
     solved: u64,
     /// `w` is the plain weights and the kitchen's optimum is known: `solve_seeded` applies.
     seeded: bool,
+    /// The last listed subspace's children are still to be pushed: its listing number and
+    /// its tree's cost (it is the last of `parents`).
+    deferred: Option<(u64, f64)>,
 }
 
 impl Partition {
@@ -1000,6 +1004,7 @@ impl Partition {
             bounds: Bounds::default(),
             solved: 0,
             seeded,
+            deferred: None,
         };
         p.heap.push(Item {
             key: f64::NEG_INFINITY,
@@ -1041,7 +1046,27 @@ impl Partition {
     /// object recomputed from its unit: every other object costs, in any subspace of this one,
     /// at least its cost in the tree (the tree is this subspace's optimum, and a constraint
     /// only raises optima), and sums are monotone (floating point included).
-    fn children(&mut self, g: &Local, c: &Constraints, s: &Solved, n: u64, parent: u32) {
+    fn children(&mut self, g: &Local, parent: u32) {
+        let Self {
+            parents, deferred, ..
+        } = self;
+        let Some((n, cost)) = deferred.take() else {
+            return;
+        };
+        let pa = std::mem::take(&mut parents[parent as usize]);
+        self.push_children(g, &pa.c, &pa.preorder, cost, n, parent);
+        self.parents[parent as usize] = pa;
+    }
+
+    fn push_children(
+        &mut self,
+        g: &Local,
+        c: &Constraints,
+        preorder: &[(u32, u32)],
+        cost: f64,
+        n: u64,
+        parent: u32,
+    ) {
         let b = &mut self.bounds;
         let (w, lb) = (&self.w, &self.lb);
         let no = g.objs.len();
@@ -1058,8 +1083,8 @@ impl Partition {
             b.epoch = 1;
         }
         let e = b.epoch;
-        let m = s.preorder.len();
-        for (j, &(o, _)) in s.preorder.iter().enumerate() {
+        let m = preorder.len();
+        for (j, &(o, _)) in preorder.iter().enumerate() {
             b.stamp[o as usize] = e;
             b.pos[o as usize] = j as u32;
         }
@@ -1080,7 +1105,7 @@ impl Partition {
             b.state[0] = 1;
         }
         while let Some(&mut (j, ref mut i)) = b.stack.last_mut() {
-            let f = s.preorder[j as usize].1 as usize;
+            let f = preorder[j as usize].1 as usize;
             let ins = &g.needed[f];
             if *i < ins.len() {
                 let x = ins[*i] as usize;
@@ -1108,11 +1133,11 @@ impl Partition {
                 b.stack.pop();
             }
         }
-        debug_assert!(m == 0 || b.val[0].to_bits() == s.cost.to_bits());
+        debug_assert!(m == 0 || b.val[0].to_bits() == cost.to_bits());
         // The tree objects whose units need each one.
         b.start.clear();
         b.start.resize(m + 1, 0);
-        for &(_, f) in &s.preorder {
+        for &(_, f) in preorder {
             for &x in &g.needed[f as usize] {
                 if !g.leaf[x as usize] {
                     b.start[b.pos[x as usize] as usize + 1] += 1;
@@ -1126,7 +1151,7 @@ impl Partition {
         b.users.resize(b.start[m] as usize, 0);
         b.list.clear();
         b.list.extend_from_slice(&b.start[..m]);
-        for (q, &(_, f)) in s.preorder.iter().enumerate() {
+        for (q, &(_, f)) in preorder.iter().enumerate() {
             for &x in &g.needed[f as usize] {
                 if !g.leaf[x as usize] {
                     let xj = b.pos[x as usize] as usize;
@@ -1150,7 +1175,7 @@ impl Partition {
                 lb[xi]
             }
         };
-        for (i, &(o, ci)) in s.preorder.iter().enumerate() {
+        for (i, &(o, ci)) in preorder.iter().enumerate() {
             if b.fixed[o as usize] == e {
                 continue;
             }
@@ -1173,7 +1198,7 @@ impl Partition {
             }
             #[allow(clippy::float_cmp)]
             let key = if v == b.val[i] {
-                s.cost
+                cost
             } else if i == 0 {
                 v
             } else {
@@ -1203,7 +1228,7 @@ impl Partition {
                 list.swap_remove(0);
                 list.sort_unstable_by_key(|&q| b.post[q as usize]);
                 for &q in &list {
-                    let f = s.preorder[q as usize].1 as usize;
+                    let f = preorder[q as usize].1 as usize;
                     let mut v = w[f];
                     for &x in &g.needed[f] {
                         let xi = x as usize;
@@ -1224,7 +1249,7 @@ impl Partition {
                 b.nval[0]
             };
             self.heap.push(Item {
-                key: key.max(s.cost),
+                key: key.max(cost),
                 ord: (n, i as u32),
                 node: Node::Open {
                     parent,
@@ -1236,6 +1261,9 @@ impl Partition {
 
     /// The next tree (cost, pre-order choices, units), or `None` when every tree was listed.
     fn next(&mut self, g: &Local, ctx: &Context<'_>) -> Result<Option<Solved>> {
+        if self.deferred.is_some() {
+            self.children(g, self.parents.len() as u32 - 1);
+        }
         while let Some(item) = self.heap.pop() {
             match item.node {
                 Node::Open { parent, at } => {
@@ -1262,19 +1290,22 @@ impl Partition {
                 }
                 Node::Done(done) => {
                     let (c, s) = *done;
-                    // The rest of this subspace: agree on the first i - 1 objects, differ at i.
+                    // The rest of this subspace: agree on the first i - 1 objects, differ at i
+                    // (pushed before the next pop: at once when the tree is passed over, else
+                    // on the next call).
                     self.popped += 1;
                     let parent = self.parents.len() as u32;
-                    self.children(g, &c, &s, self.popped, parent);
                     self.parents.push(Parent {
                         c,
                         preorder: s.preorder.clone(),
                     });
+                    self.deferred = Some((self.popped, s.cost));
                     let mut set = s.units.clone();
                     set.sort_unstable();
                     if self.listed.insert(set) {
                         return Ok(Some(s));
                     }
+                    self.children(g, parent);
                 }
             }
         }
