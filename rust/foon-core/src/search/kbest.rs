@@ -357,7 +357,7 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return None;
         }
-        let (preorder, units) = self.read(&|o| work.choice[o as usize], scratch);
+        let (preorder, units) = self.read(|o| work.choice[o as usize], scratch);
         Some(Solved {
             cost: work.cost[g],
             preorder,
@@ -471,7 +471,7 @@ impl Local {
             if !ocost[g].is_finite() {
                 return Seeded::Empty;
             }
-            let (preorder, units) = self.read(&|o| ochoice[o as usize], scratch);
+            let (preorder, units) = self.read(|o| ochoice[o as usize], scratch);
             return Seeded::Tree(Solved {
                 cost: ocost[g],
                 preorder,
@@ -526,7 +526,7 @@ impl Local {
             return Seeded::Empty;
         }
         let (preorder, units) = self.read(
-            &|o| {
+            |o| {
                 if work.stamp[o as usize] == e {
                     work.choice[o as usize]
                 } else {
