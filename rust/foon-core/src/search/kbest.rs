@@ -196,15 +196,13 @@ impl Local {
             needed.data.extend(ctx.needed(f).iter().map(|&x| at.get(x)));
             needed.close();
             let from = outs.data.len();
-            for &y in foon.outputs(f) {
-                if foon.is_bare(y) {
-                    continue;
-                }
-                let y = at.get(y);
+            for &o in foon.outputs(f) {
+                let y = at.get(o);
                 // Repeats in a row once, as the unit's output list is read.
                 if y != NONE
                     && !leaf[y as usize]
                     && (outs.data.len() == from || outs.data.last() != Some(&y))
+                    && !foon.is_bare(o)
                 {
                     outs.data.push(y);
                 }
