@@ -52,7 +52,7 @@ def table(c: Course, p: foon.Planner, method: str) -> list[str]:
     """The Markdown table of one method (and the totals)."""
     warm(p, c.goals[0], method)
     k_hi = KS[-1]
-    out = [f"method {method}; times in ms (median of 5)", "",
+    out = [f"method {method}; times in µs (median of 5)", "",
            f"| goal | units | trees (k={k_hi}) | plan | "
            + " | ".join(f"k={k}" for k in KS) + " | k=10 / plan | k=100 / plan |",
            "|---|---:|---:|---:|" + "---:|" * (len(KS) + 2)]  # fmt: skip
@@ -65,12 +65,12 @@ def table(c: Course, p: foon.Planner, method: str) -> list[str]:
             tot[k] += m.times[k]
         if m.units is not None:
             worst = max(worst, m.times[10] / m.plan)
-        cells = " | ".join(f"{m.times[k] * 1e3:.3f}" for k in KS)
+        cells = " | ".join(f"{m.times[k] * 1e6:.1f}" for k in KS)
         units = "unsolved" if m.units is None else str(m.units)
-        out.append(f"| {g.label} | {units} | {m.found[k_hi]} | {m.plan * 1e3:.3f} | {cells} | "
+        out.append(f"| {g.label} | {units} | {m.found[k_hi]} | {m.plan * 1e6:.1f} | {cells} | "
                    f"{m.times[10] / m.plan:.1f} | {m.times[k_hi] / m.plan:.1f} |")  # fmt: skip
-    cells = " | ".join(f"{tot[k] * 1e3:.2f}" for k in KS)
-    out.append(f"| **total** | | | {tot_plan * 1e3:.2f} | {cells} | {tot[10] / tot_plan:.1f} | "
+    cells = " | ".join(f"{tot[k] * 1e6:.1f}" for k in KS)
+    out.append(f"| **total** | | | {tot_plan * 1e6:.1f} | {cells} | {tot[10] / tot_plan:.1f} | "
                f"{tot[k_hi] / tot_plan:.1f} |")  # fmt: skip
     out += ["", f"largest k=10 / plan over solved goals: {worst:.1f}"]
     return out

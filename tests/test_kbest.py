@@ -58,6 +58,27 @@ def _check_goal(case: Case, goal: int, methods: Sequence[str], diverse: Sequence
     return True
 
 
+def _check_metrics(
+    r: foon.RankedTree,
+    rf: ref.RefFoon,
+    goal: int,
+    k: set[int],
+    utensils: set[str],
+    rates: dict[str, float],
+) -> None:
+    """A listed tree's height, leaf inputs and success are those of its units, by the
+    reference's definitions (the core computes them over the goal's ancestry)."""
+    t = r.tree
+    assert t.height == ref.height(rf, r.units, goal, k, utensils), r.units
+    leaves = {x for f in r.units for x in ref.needed_inputs(rf, f, utensils) if x in k}
+    assert t.leaf_inputs == len(leaves), r.units
+    if all(rf.fus[f].motion in rates for f in r.units):
+        want = 1.0
+        for f in r.units:
+            want *= rates[rf.fus[f].motion]
+        assert t.success == want, r.units
+
+
 def _check_method(
     planner: foon.Planner,
     case: Case,
@@ -86,6 +107,7 @@ def _check_method(
         assert r.cost == want, (r.units, method)
         assert ref.is_valid(rf, r.units, goal, k, utensils)
         assert r.rank == got.index(r) + 1
+        _check_metrics(r, rf, goal, k, utensils, case.rates)
     # k = 1 is the optimal plan; a shorter list is a prefix of a longer one (ties are broken
     # the same way every time).
     plan = planner.plan(goal, method)

@@ -15,11 +15,14 @@
 //! once, at its lowest cost.
 
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::BinaryHeap;
+
+use rustc_hash::FxHashSet;
 
 use super::optimal::Entry;
 use super::{Context, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
+use crate::evaluate::TreeMetrics;
 use crate::index::NONE;
 use crate::prepare::{Objective, Optimum};
 
@@ -47,19 +50,22 @@ pub(super) struct Local {
     leaf: Vec<bool>,
     /// Global id of each local unit.
     fus: Vec<u32>,
-    needed: Vec<Vec<u32>>,
+    needed: Lists,
     /// Outputs a unit can set: in the ancestry, not a leaf, not bare.
-    outs: Vec<Vec<u32>>,
+    outs: Lists,
     /// Units needing an object, once per needed slot.
-    needed_by: Vec<Vec<u32>>,
+    needed_by: Lists,
     /// Units that can set an object (those with it in `outs`).
-    made_by: Vec<Vec<u32>>,
+    made_by: Lists,
     weight: Vec<f64>,
     leaf_cost: f64,
     goal: u32,
     /// The kitchen's optimum in local ids (cost, choice), when prepared: the best tree of the
     /// whole space, and every object's best completion outside a subspace's constraints.
     opt: Option<(Vec<f64>, Vec<u32>)>,
+    /// With the optimum: the objects whose optimum's unit needs each object (once per needed
+    /// slot).
+    opt_users: Lists,
     /// Every unit weighs more than 0 and, at the optimum's costs, costs more than each of its
     /// inputs: Knuth then finalises objects in (cost, id) order (see `solve_seeded`).
     strict: bool,
@@ -87,6 +93,61 @@ fn weights(ctx: &Context<'_>, method: Method, fus: &[u32]) -> Result<(Vec<f64>, 
     })
 }
 
+/// One list of local ids per local object or unit, in one flat array: list `i` is
+/// `data[start[i]..start[i + 1]]`.
+struct Lists {
+    start: Vec<u32>,
+    data: Vec<u32>,
+}
+
+impl Lists {
+    fn with_capacity(n: usize) -> Self {
+        let mut start = Vec::with_capacity(n + 1);
+        start.push(0);
+        Self {
+            start,
+            data: Vec::with_capacity(n * 2),
+        }
+    }
+
+    /// Ends the list being filled (the elements pushed on `data` since the last one).
+    fn close(&mut self) {
+        self.start.push(self.data.len() as u32);
+    }
+
+    fn lists(&self) -> impl Iterator<Item = &[u32]> {
+        (0..self.start.len() - 1).map(|i| &self[i])
+    }
+
+    /// The lists of the other side: list `x` holds every `i` whose list holds `x`, once per
+    /// occurrence, in increasing `i`.
+    fn transpose(&self, n: usize) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for &x in &self.data {
+            start[x as usize + 1] += 1;
+        }
+        for j in 0..n {
+            start[j + 1] += start[j];
+        }
+        let mut fill = start[..n].to_vec();
+        let mut data = vec![0u32; self.data.len()];
+        for (i, l) in self.lists().enumerate() {
+            for &x in l {
+                data[fill[x as usize] as usize] = i as u32;
+                fill[x as usize] += 1;
+            }
+        }
+        Self { start, data }
+    }
+}
+
+impl std::ops::Index<usize> for Lists {
+    type Output = [u32];
+    fn index(&self, i: usize) -> &[u32] {
+        &self.data[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+}
+
 impl Local {
     pub(super) fn new(ctx: &Context<'_>, goal: u32, method: Method) -> Result<Self> {
         let foon = ctx.foon;
@@ -95,9 +156,10 @@ impl Local {
         // sorted.
         let mut at = ctx.id_map(foon.object_count(), NONE);
         let mut seen_f = ctx.id_map(foon.fu_count(), false);
-        let mut objs = vec![goal];
+        let mut objs = Vec::with_capacity(256);
+        objs.push(goal);
         at.set(goal, 0);
-        let mut fus = Vec::new();
+        let mut fus = Vec::with_capacity(256);
         let mut next = 0;
         while let Some(&o) = objs.get(next) {
             next += 1;
@@ -128,32 +190,28 @@ impl Local {
             at.set(o, i as u32);
         }
         let leaf: Vec<bool> = objs.iter().map(|&o| ctx.in_kitchen(o)).collect();
-        let mut needed_by = vec![Vec::new(); objs.len()];
-        let mut needed = Vec::with_capacity(fus.len());
-        let mut outs = Vec::with_capacity(fus.len());
-        for (i, &f) in fus.iter().enumerate() {
-            let ins: Vec<u32> = ctx.needed(f).iter().map(|&x| at.get(x)).collect();
-            for &x in &ins {
-                needed_by[x as usize].push(i as u32);
+        let mut needed = Lists::with_capacity(fus.len());
+        let mut outs = Lists::with_capacity(fus.len());
+        for &f in &fus {
+            needed.data.extend(ctx.needed(f).iter().map(|&x| at.get(x)));
+            needed.close();
+            let from = outs.data.len();
+            for &o in foon.outputs(f) {
+                let y = at.get(o);
+                // Repeats in a row once, as the unit's output list is read.
+                if y != NONE
+                    && !leaf[y as usize]
+                    && (outs.data.len() == from || outs.data.last() != Some(&y))
+                    && !foon.is_bare(o)
+                {
+                    outs.data.push(y);
+                }
             }
-            needed.push(ins);
-            let mut os: Vec<u32> = foon
-                .outputs(f)
-                .iter()
-                .filter(|&&y| !foon.is_bare(y))
-                .map(|&y| at.get(y))
-                .filter(|&y| y != NONE && !leaf[y as usize])
-                .collect();
-            os.dedup();
-            outs.push(os);
+            outs.close();
         }
+        let needed_by = needed.transpose(objs.len());
+        let made_by = outs.transpose(objs.len());
         let (weight, leaf_cost) = weights(ctx, method, &fus)?;
-        let mut made_by = vec![Vec::new(); objs.len()];
-        for (i, os) in outs.iter().enumerate() {
-            for &y in os {
-                made_by[y as usize].push(i as u32);
-            }
-        }
         let opt = prepared(ctx, method)?.and_then(|o| {
             let cost: Vec<f64> = objs.iter().map(|&x| o.cost[x as usize]).collect();
             let choice = objs
@@ -167,7 +225,7 @@ impl Local {
         });
         let strict = opt.as_ref().is_some_and(|(cost, _)| {
             weight.iter().all(|&w| w > 0.0)
-                && needed.iter().zip(&weight).all(|(ins, &w)| {
+                && needed.lists().zip(&weight).all(|(ins, &w)| {
                     let (mut c, mut top) = (w, f64::NEG_INFINITY);
                     for &x in ins {
                         c += cost[x as usize];
@@ -176,6 +234,16 @@ impl Local {
                     !c.is_finite() || c > top
                 })
         });
+        let mut opt_needs = Lists::with_capacity(objs.len());
+        if let Some((_, choice)) = &opt {
+            for &f in choice {
+                if f != NONE {
+                    opt_needs.data.extend_from_slice(&needed[f as usize]);
+                }
+                opt_needs.close();
+            }
+        }
+        let opt_users = opt_needs.transpose(if opt.is_some() { objs.len() } else { 0 });
         Ok(Self {
             goal: at.get(goal),
             objs,
@@ -188,6 +256,7 @@ impl Local {
             weight,
             leaf_cost,
             opt,
+            opt_users,
             strict,
         })
     }
@@ -310,7 +379,7 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return None;
         }
-        let (preorder, units) = self.read(&|o| work.choice[o as usize], scratch);
+        let (preorder, units) = self.read(|o| work.choice[o as usize], scratch);
         Some(Solved {
             cost: work.cost[g],
             preorder,
@@ -403,11 +472,13 @@ impl Local {
     }
 
     /// The best tree of a subspace from the kitchen's optimum: read from it for the whole
-    /// space; otherwise Knuth's algorithm over the *affected* objects only (the banned ones,
-    /// those fixed to another unit than the optimum's choice, and every object one of them is
-    /// in the ancestry of), seeded with the optimum's
-    /// final costs of the unaffected inputs of their units: the others keep the optimum's
-    /// cost and choice (their ancestry has no constraint). Exact when every unit costs more
+    /// space; otherwise Knuth's algorithm over the *affected* objects only (those whose
+    /// optimum's tree breaks a constraint: fixed to another unit than the optimum's choice, or
+    /// that choice banned; and every object whose optimum's tree holds one of them), seeded
+    /// with the optimum's final costs of the unaffected inputs of their units: the others keep
+    /// the optimum's cost and choice (their optimum's tree is in the subspace, and a
+    /// constraint only raises costs, so it is still the best, with the same lowest unit index
+    /// among those that set the cost). Exact when every unit costs more
     /// than each of its inputs (`strict`, checked again on each unit fired): Knuth then
     /// finalises objects in (cost, id) order, so every unit fires before the same objects as
     /// in the full run, and the choices (ties included) are the same.
@@ -426,7 +497,7 @@ impl Local {
             if !ocost[g].is_finite() {
                 return Seeded::Empty;
             }
-            let (preorder, units) = self.read(&|o| ochoice[o as usize], scratch);
+            let (preorder, units) = self.read(|o| ochoice[o as usize], scratch);
             return Seeded::Tree(Solved {
                 cost: ocost[g],
                 preorder,
@@ -448,13 +519,13 @@ impl Local {
         let mut units = std::mem::take(&mut work.units);
         list.clear();
         units.clear();
-        // An object fixed to its optimum's choice keeps its cost and choice unless something
-        // in its ancestry is affected (then it is reached from there).
+        // The objects whose optimum's tree breaks a constraint (fixed to another unit than
+        // its choice, or its choice banned), and those whose optimum's tree holds one of them.
         let seeds = c
             .fixed
             .iter()
             .filter(|&&(o, f)| ochoice[o as usize] != f)
-            .chain(&c.banned);
+            .chain(c.banned.iter().filter(|&&(o, f)| ochoice[o as usize] == f));
         for &(o, _) in seeds {
             if work.stamp[o as usize] != e {
                 work.stamp[o as usize] = e;
@@ -464,12 +535,10 @@ impl Local {
         let mut i = 0;
         while let Some(&o) = list.get(i) {
             i += 1;
-            for &f in &self.needed_by[o as usize] {
-                for &y in &self.outs[f as usize] {
-                    if work.stamp[y as usize] != e {
-                        work.stamp[y as usize] = e;
-                        list.push(y);
-                    }
+            for &y in &self.opt_users[o as usize] {
+                if work.stamp[y as usize] != e {
+                    work.stamp[y as usize] = e;
+                    list.push(y);
                 }
             }
         }
@@ -483,7 +552,7 @@ impl Local {
             return Seeded::Empty;
         }
         let (preorder, units) = self.read(
-            &|o| {
+            |o| {
                 if work.stamp[o as usize] == e {
                     work.choice[o as usize]
                 } else {
@@ -624,7 +693,7 @@ impl Local {
     /// depth-first post-order), as `tree::emit` reads them.
     fn read(
         &self,
-        choice: &dyn Fn(u32) -> u32,
+        choice: impl Fn(u32) -> u32,
         scratch: &mut ReadScratch,
     ) -> (Vec<(u32, u32)>, Vec<u32>) {
         let e = scratch.next_epoch(self);
@@ -632,10 +701,12 @@ impl Local {
             seen,
             emitted,
             stack,
+            size,
             ..
         } = scratch;
-        let mut pre = Vec::new();
-        let mut units = Vec::new();
+        // Room for a tree as large as the last one read, and a few more.
+        let mut pre = Vec::with_capacity(size.0 + 8);
+        let mut units = Vec::with_capacity(size.1 + 8);
         stack.clear();
         let mut visit = |o: u32, stack: &mut Vec<(u32, usize)>, emitted: &[u32]| {
             if self.leaf[o as usize] || seen[o as usize] == e {
@@ -663,7 +734,110 @@ impl Local {
                 }
             }
         }
+        *size = (pre.len(), units.len());
         (pre, units)
+    }
+
+    /// `Context::metrics` of a tree of this graph (`preorder`: its objects with their local
+    /// choices; `units`: its units, global ids, in execution order), over the local ids: the
+    /// height is the least fixpoint of the ranks of the objects the units make from the
+    /// kitchen (an object's rank is one more than the largest rank of the needed inputs of the
+    /// first unit to make it, breadth first), which only the ancestry's objects take part in
+    /// for the goal (every needed input of a unit of the ancestry is in it); the leaf inputs
+    /// are the distinct kitchen objects the units need.
+    fn metrics(
+        &self,
+        ctx: &Context<'_>,
+        preorder: &[(u32, u32)],
+        units: &[u32],
+        m: &mut MetricsScratch,
+    ) -> TreeMetrics {
+        let MetricsScratch {
+            us,
+            left,
+            rank,
+            head,
+            slots,
+            queue,
+        } = m;
+        us.clear();
+        us.extend(preorder.iter().map(|&(_, f)| f));
+        us.sort_unstable();
+        us.dedup();
+        left.clear();
+        left.resize(us.len(), 0);
+        // Per object: its rank (0 marks a kitchen object counted), and the first of the
+        // needed slots waiting for it (a linked list through `slots`: unit, next).
+        rank.clear();
+        rank.resize(self.objs.len(), NONE);
+        head.clear();
+        head.resize(self.objs.len(), NONE);
+        slots.clear();
+        queue.clear();
+        let mut leaves = 0;
+        for (i, &f) in us.iter().enumerate() {
+            for &x in &self.needed[f as usize] {
+                let xi = x as usize;
+                if !self.leaf[xi] {
+                    left[i] += 1;
+                    slots.push((i as u32, head[xi]));
+                    head[xi] = slots.len() as u32 - 1;
+                } else if rank[xi] == NONE {
+                    rank[xi] = 0;
+                    leaves += 1;
+                }
+            }
+        }
+        // First in, first out: `queue[next..]` is still to be read.
+        let fire = |f: u32, r: u32, rank: &mut [u32], queue: &mut Vec<(u32, u32)>| {
+            for &y in &self.outs[f as usize] {
+                if rank[y as usize] == NONE {
+                    rank[y as usize] = r;
+                    queue.push((y, r));
+                }
+            }
+        };
+        for (i, &f) in us.iter().enumerate() {
+            if left[i] == 0 {
+                fire(f, 1, rank, queue);
+            }
+        }
+        let mut next = 0;
+        while let Some(&(o, r)) = queue.get(next) {
+            next += 1;
+            let mut slot = head[o as usize];
+            while slot != NONE {
+                let (i, after) = slots[slot as usize];
+                left[i as usize] -= 1;
+                if left[i as usize] == 0 {
+                    fire(us[i as usize], r + 1, rank, queue);
+                }
+                slot = after;
+            }
+        }
+        let height = match rank[self.goal as usize] {
+            NONE => None,
+            r => Some(r),
+        };
+        let unrated = if ctx.rates_given() {
+            units
+                .iter()
+                .copied()
+                .find(|&f| ctx.fu_rates().get(f as usize).is_none_or(|r| r.is_nan()))
+        } else {
+            None
+        };
+        let success = (ctx.rates_given() && unrated.is_none()).then(|| {
+            units
+                .iter()
+                .fold(1.0, |acc, &f| acc * ctx.fu_rates()[f as usize])
+        });
+        TreeMetrics {
+            height,
+            success,
+            unrated,
+            leaf_inputs: leaves,
+        }
     }
 
     /// The cost of a tree under the weights `w`, by the definition (a shared sub-goal counts
@@ -704,6 +878,17 @@ impl Local {
     }
 }
 
+/// Buffers of `Local::metrics`, kept between trees.
+#[derive(Default)]
+struct MetricsScratch {
+    us: Vec<u32>,
+    left: Vec<u32>,
+    rank: Vec<u32>,
+    head: Vec<u32>,
+    slots: Vec<(u32, u32)>,
+    queue: Vec<(u32, u32)>,
+}
+
 /// Stamped marks of `Local::read` (objects seen, units emitted) and its stack, kept between
 /// reads: nothing the size of the ancestry is allocated per subspace.
 struct ReadScratch {
@@ -711,6 +896,8 @@ struct ReadScratch {
     seen: Vec<u32>,
     emitted: Vec<u32>,
     stack: Vec<(u32, usize)>,
+    /// The last tree read: its pre-order's and its units' lengths.
+    size: (usize, usize),
 }
 
 impl ReadScratch {
@@ -720,6 +907,7 @@ impl ReadScratch {
             seen: vec![0; g.objs.len()],
             emitted: vec![0; g.fus.len()],
             stack: Vec::new(),
+            size: (0, 0),
         }
     }
 
@@ -773,6 +961,7 @@ enum Node {
 }
 
 /// A listed subspace, kept while its children may still be solved.
+#[derive(Default)]
 struct Parent {
     c: Constraints,
     preorder: Vec<(u32, u32)>,
@@ -817,7 +1006,7 @@ struct Partition {
     /// Subspaces listed (popped solved) so far, and those whose children may be in the heap.
     popped: u64,
     parents: Vec<Parent>,
-    listed: HashSet<Vec<u32>>,
+    listed: FxHashSet<Vec<u32>>,
     work: Work,
     scratch: ReadScratch,
     bounds: Bounds,
@@ -825,6 +1014,9 @@ struct Partition {
     solved: u64,
     /// `w` is the plain weights and the kitchen's optimum is known: `solve_seeded` applies.
     seeded: bool,
+    /// The last listed subspace's children are still to be pushed: its listing number and
+    /// its tree's cost (it is the last of `parents`).
+    deferred: Option<(u64, f64)>,
 }
 
 impl Partition {
@@ -841,12 +1033,13 @@ impl Partition {
             heap: BinaryHeap::new(),
             popped: 0,
             parents: Vec::new(),
-            listed: HashSet::new(),
+            listed: FxHashSet::default(),
             work,
             scratch: ReadScratch::new(g),
             bounds: Bounds::default(),
             solved: 0,
             seeded,
+            deferred: None,
         };
         p.heap.push(Item {
             key: f64::NEG_INFINITY,
@@ -864,12 +1057,15 @@ impl Partition {
         let Some(pa) = self.parents.get(parent as usize) else {
             return Constraints::default();
         };
-        let mut fixed = pa.c.fixed.clone();
-        for &(o, f) in &pa.preorder[..at as usize] {
-            if !pa.c.fixed.iter().any(|&(x, _)| x == o) {
-                fixed.push((o, f));
-            }
-        }
+        // The parent's fixed objects are the start of its pre-order (its tree reaches them
+        // first, through their fixed choices, as the tree it was cut from did), and its
+        // children cut after them.
+        let from = pa.c.fixed.len();
+        debug_assert!(from <= at as usize);
+        debug_assert!(pa.preorder[..from].iter().all(|p| pa.c.fixed.contains(p)));
+        let mut fixed = Vec::with_capacity(at as usize);
+        fixed.extend_from_slice(&pa.c.fixed);
+        fixed.extend_from_slice(&pa.preorder[from..at as usize]);
         let mut banned = pa.c.banned.clone();
         banned.push(pa.preorder[at as usize]);
         Constraints { fixed, banned }
@@ -885,7 +1081,27 @@ impl Partition {
     /// object recomputed from its unit: every other object costs, in any subspace of this one,
     /// at least its cost in the tree (the tree is this subspace's optimum, and a constraint
     /// only raises optima), and sums are monotone (floating point included).
-    fn children(&mut self, g: &Local, c: &Constraints, s: &Solved, n: u64, parent: u32) {
+    fn children(&mut self, g: &Local, parent: u32) {
+        let Self {
+            parents, deferred, ..
+        } = self;
+        let Some((n, cost)) = deferred.take() else {
+            return;
+        };
+        let pa = std::mem::take(&mut parents[parent as usize]);
+        self.push_children(g, &pa.c, &pa.preorder, cost, n, parent);
+        self.parents[parent as usize] = pa;
+    }
+
+    fn push_children(
+        &mut self,
+        g: &Local,
+        c: &Constraints,
+        preorder: &[(u32, u32)],
+        cost: f64,
+        n: u64,
+        parent: u32,
+    ) {
         let b = &mut self.bounds;
         let (w, lb) = (&self.w, &self.lb);
         let no = g.objs.len();
@@ -902,8 +1118,8 @@ impl Partition {
             b.epoch = 1;
         }
         let e = b.epoch;
-        let m = s.preorder.len();
-        for (j, &(o, _)) in s.preorder.iter().enumerate() {
+        let m = preorder.len();
+        for (j, &(o, _)) in preorder.iter().enumerate() {
             b.stamp[o as usize] = e;
             b.pos[o as usize] = j as u32;
         }
@@ -924,7 +1140,7 @@ impl Partition {
             b.state[0] = 1;
         }
         while let Some(&mut (j, ref mut i)) = b.stack.last_mut() {
-            let f = s.preorder[j as usize].1 as usize;
+            let f = preorder[j as usize].1 as usize;
             let ins = &g.needed[f];
             if *i < ins.len() {
                 let x = ins[*i] as usize;
@@ -952,11 +1168,11 @@ impl Partition {
                 b.stack.pop();
             }
         }
-        debug_assert!(m == 0 || b.val[0].to_bits() == s.cost.to_bits());
+        debug_assert!(m == 0 || b.val[0].to_bits() == cost.to_bits());
         // The tree objects whose units need each one.
         b.start.clear();
         b.start.resize(m + 1, 0);
-        for &(_, f) in &s.preorder {
+        for &(_, f) in preorder {
             for &x in &g.needed[f as usize] {
                 if !g.leaf[x as usize] {
                     b.start[b.pos[x as usize] as usize + 1] += 1;
@@ -970,7 +1186,7 @@ impl Partition {
         b.users.resize(b.start[m] as usize, 0);
         b.list.clear();
         b.list.extend_from_slice(&b.start[..m]);
-        for (q, &(_, f)) in s.preorder.iter().enumerate() {
+        for (q, &(_, f)) in preorder.iter().enumerate() {
             for &x in &g.needed[f as usize] {
                 if !g.leaf[x as usize] {
                     let xj = b.pos[x as usize] as usize;
@@ -994,7 +1210,7 @@ impl Partition {
                 lb[xi]
             }
         };
-        for (i, &(o, ci)) in s.preorder.iter().enumerate() {
+        for (i, &(o, ci)) in preorder.iter().enumerate() {
             if b.fixed[o as usize] == e {
                 continue;
             }
@@ -1017,7 +1233,7 @@ impl Partition {
             }
             #[allow(clippy::float_cmp)]
             let key = if v == b.val[i] {
-                s.cost
+                cost
             } else if i == 0 {
                 v
             } else {
@@ -1047,7 +1263,7 @@ impl Partition {
                 list.swap_remove(0);
                 list.sort_unstable_by_key(|&q| b.post[q as usize]);
                 for &q in &list {
-                    let f = s.preorder[q as usize].1 as usize;
+                    let f = preorder[q as usize].1 as usize;
                     let mut v = w[f];
                     for &x in &g.needed[f] {
                         let xi = x as usize;
@@ -1068,7 +1284,7 @@ impl Partition {
                 b.nval[0]
             };
             self.heap.push(Item {
-                key: key.max(s.cost),
+                key: key.max(cost),
                 ord: (n, i as u32),
                 node: Node::Open {
                     parent,
@@ -1080,6 +1296,9 @@ impl Partition {
 
     /// The next tree (cost, pre-order choices, units), or `None` when every tree was listed.
     fn next(&mut self, g: &Local, ctx: &Context<'_>) -> Result<Option<Solved>> {
+        if self.deferred.is_some() {
+            self.children(g, self.parents.len() as u32 - 1);
+        }
         while let Some(item) = self.heap.pop() {
             match item.node {
                 Node::Open { parent, at } => {
@@ -1106,19 +1325,22 @@ impl Partition {
                 }
                 Node::Done(done) => {
                     let (c, s) = *done;
-                    // The rest of this subspace: agree on the first i - 1 objects, differ at i.
+                    // The rest of this subspace: agree on the first i - 1 objects, differ at i
+                    // (pushed before the next pop: at once when the tree is passed over, else
+                    // on the next call).
                     self.popped += 1;
                     let parent = self.parents.len() as u32;
-                    self.children(g, &c, &s, self.popped, parent);
                     self.parents.push(Parent {
                         c,
                         preorder: s.preorder.clone(),
                     });
+                    self.deferred = Some((self.popped, s.cost));
                     let mut set = s.units.clone();
                     set.sort_unstable();
                     if self.listed.insert(set) {
                         return Ok(Some(s));
                     }
+                    self.children(g, parent);
                 }
             }
         }
@@ -1132,6 +1354,8 @@ impl Partition {
 pub struct Ranked {
     pub units: Vec<u32>,
     pub cost: f64,
+    /// Its metrics, when computed over the goal's ancestry.
+    metrics: Option<TreeMetrics>,
 }
 
 /// The k best trees of `goal` for an optimal method, lazily (see the module comment).
@@ -1151,8 +1375,9 @@ pub struct KBest {
     given: Option<Vec<u32>>,
     diverse: bool,
     /// Diverse mode: the sets listed so far, and how many of them use each local unit.
-    earlier: HashSet<Vec<u32>>,
+    earlier: FxHashSet<Vec<u32>>,
     uses: Vec<u32>,
+    scratch: MetricsScratch,
     evaluations: u64,
 }
 
@@ -1198,8 +1423,9 @@ impl KBest {
             pending,
             given: None,
             diverse,
-            earlier: HashSet::new(),
+            earlier: FxHashSet::default(),
             uses,
+            scratch: MetricsScratch::default(),
             evaluations: 0,
         })
     }
@@ -1252,6 +1478,7 @@ impl KBest {
             return Ok(Some(Ranked {
                 units: Vec::new(),
                 cost,
+                metrics: None,
             }));
         }
         if self.pending {
@@ -1261,7 +1488,11 @@ impl KBest {
                 let cost = self.reported(o.cost[self.goal as usize]);
                 self.evaluations = 1;
                 self.given = Some(units.clone());
-                return Ok(Some(Ranked { units, cost }));
+                return Ok(Some(Ranked {
+                    units,
+                    cost,
+                    metrics: None,
+                }));
             }
         }
         if let Some(first) = self.given.take() {
@@ -1303,6 +1534,7 @@ impl KBest {
         }) else {
             return Ok(None);
         };
+        let metrics = Some(g.metrics(ctx, &s.preorder, &s.units, &mut self.scratch));
         let cost = if self.diverse {
             let cost = g.tree_cost(&g.weight, &s.preorder);
             self.penalise(&s.units);
@@ -1313,6 +1545,7 @@ impl KBest {
         Ok(Some(Ranked {
             units: s.units,
             cost: self.reported(cost),
+            metrics,
         }))
     }
 
@@ -1328,7 +1561,16 @@ impl KBest {
         p.units.clone_from(&r.units);
         p.cost = Some(r.cost);
         p.expanded = self.evaluations();
-        ctx.fill_metrics(&mut p);
+        match r.metrics {
+            Some(m) => {
+                debug_assert_eq!(m, ctx.metrics(&r.units, self.goal));
+                p.height = m.height;
+                p.success = m.success;
+                p.unrated = m.unrated;
+                p.leaf_inputs = m.leaf_inputs;
+            }
+            None => ctx.fill_metrics(&mut p),
+        }
         p
     }
 }
