@@ -13,9 +13,11 @@ first (`maturin build --release`, installed in its own venv with `pyarrow` and
 (a base-plus-deltas kitchen-set file, one seed per kitchen); the queries pick a kitchen, a
 goal (a JSON object) and a method at random (seed 2) and are written as Parquet, sorted by
 kitchen (so that a chunk touches few kitchens). Each configuration answers the whole file
-with `foon.batch` into its own folder (`resume=False`), best of `--repeat`, after a first run
-that is not timed; the time is the whole call (reading and checking the file, planning,
-writing and hashing the partitions). Every run gives the same partitions (checked).
+with `foon.batch` into its own folder (`resume=False`), best of `--repeat` rounds after one
+that is not timed, the configurations taking turns (one run of each per round, so that the
+machine's load falls on all alike); the time is the whole call (reading and checking the
+file, planning, writing and hashing the partitions). Every run gives the same partitions
+(checked).
 
 - local, 1 thread and 2 threads (`--chunk`);
 - Dask, a `LocalCluster` of 1 and of 2 single-threaded worker processes (`--chunk`);
@@ -97,16 +99,6 @@ def prepare(args: argparse.Namespace, work: Path) -> tuple[Path, Path, Path, int
     return index, kset, queries, count
 
 
-def timed(repeat: int, fn: Any) -> tuple[float, Any]:
-    fn()  # not timed: the page cache and the prepared-kitchen cache filled
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t)
-    return best, out
-
-
 def noop(x: int) -> int:
     return x
 
@@ -136,42 +128,46 @@ def main() -> None:
     shutil.rmtree(outs, ignore_errors=True)
     want: pa.Table | None = None
 
-    def run(tag: str, **kw: Any) -> float:
-        nonlocal want
-        out = outs / tag
-
-        def once() -> Any:
-            return foon.batch(queries, foon=f, kitchens=ks, out=out, resume=False, **kw)
-
-        s, _ = timed(args.repeat, once)
-        got = pq.read_table(out)
-        if want is None:
-            want = got
-        assert got.equals(want), tag
-        print(f"[{tag}: {fmt_s(s)}, {count / s:,.0f} queries/s]", file=sys.stderr, flush=True)
-        return s
-
-    local = {t: run(f"local-{t}", chunk_size=chunk, threads=t) for t in (1, 2)}
-    dask: dict[int, float] = {}
-    sweep: dict[int, tuple[float, float]] = {}
     sizes = [int(x) for x in args.sweep.split(",") if x]
-    for workers in (1, 2):
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:  # fmt: skip
-            client.wait_for_workers(workers)
-            dask[workers] = run(f"dask-{workers}", engine="dask", client=client,
-                                chunk_size=chunk)  # fmt: skip
-            if workers == 1:
-                for c in sizes:
-                    d = run(f"dask-1-{c}", engine="dask", client=client, chunk_size=c)
-                    lo = run(f"local-1-{c}", chunk_size=c, threads=1)
-                    sweep[c] = (d, lo)
-            else:
-                n = 2000
-                t0 = time.perf_counter()
-                futs = client.map(noop, range(n), pure=False)
-                client.gather(futs)
-                noop_rate = n / (time.perf_counter() - t0)
+    c1 = LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None)
+    c2 = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    client1, client2 = Client(c1), Client(c2)
+    client1.wait_for_workers(1)
+    client2.wait_for_workers(2)
+    configs: dict[str, dict[str, Any]] = {
+        "local-1": {"chunk_size": chunk, "threads": 1},
+        "local-2": {"chunk_size": chunk, "threads": 2},
+        "dask-1": {"chunk_size": chunk, "engine": "dask", "client": client1},
+        "dask-2": {"chunk_size": chunk, "engine": "dask", "client": client2},
+    }
+    for c in sizes:
+        configs[f"dask-1-{c}"] = {"chunk_size": c, "engine": "dask", "client": client1}
+        configs[f"local-1-{c}"] = {"chunk_size": c, "threads": 1}
+    best = dict.fromkeys(configs, float("inf"))
+    # Round 0 is not timed (page cache, prepared-kitchen cache, worker start-up); then every
+    # configuration once per round, so that the machine's load falls on all of them alike.
+    for r in range(args.repeat + 1):
+        for tag, kw in configs.items():
+            out = outs / tag
+            t = time.perf_counter()
+            foon.batch(queries, foon=f, kitchens=ks, out=out, resume=False, **kw)
+            s = time.perf_counter() - t
+            got = pq.read_table(out)
+            if want is None:
+                want = got
+            assert got.equals(want), tag
+            if r:
+                best[tag] = min(best[tag], s)
+            print(f"[round {r}, {tag}: {fmt_s(s)}]", file=sys.stderr, flush=True)
+    local = {1: best["local-1"], 2: best["local-2"]}
+    dask = {1: best["dask-1"], 2: best["dask-2"]}
+    sweep = {c: (best[f"dask-1-{c}"], best[f"local-1-{c}"]) for c in sizes}
+    n = 2000
+    t0 = time.perf_counter()
+    client2.gather(client2.map(noop, range(n), pure=False))
+    noop_rate = n / (time.perf_counter() - t0)
+    for x in (client1, client2, c1, c2):
+        x.close()
     # The client's share: writing and hashing one partition of results.
     part = want.slice(0, min(chunk, want.num_rows)) if want is not None else None
     assert part is not None
