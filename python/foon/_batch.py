@@ -502,12 +502,18 @@ class _Progress:
         self.start_done = done
         self.t0 = time.perf_counter()
         self.last = 0.0
+        self.shown = -1
 
     def __call__(self, done: int, total: int, final: bool = False) -> None:
         now = time.perf_counter()
-        if not final and now - self.last < 0.1:
+        if final and self.shown == done:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            return
+        if not final and now - self.last < 0.1 and done < total:
             return
         self.last = now
+        self.shown = done
         width = 30
         frac = done / total if total else 1.0
         bar = "#" * int(frac * width)
