@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
+    from foon._batch import BatchSummary, batch
     from foon._explain import GoalExplanation, Similar
     from foon._kbest import RankedTree
     from foon._kitchens import KitchenSet
@@ -72,6 +73,7 @@ __all__ = [
     "MAX_SYNTH_UNITS",
     "METHODS",
     "SYNTH_TEXT_LIMIT",
+    "BatchSummary",
     "Blocked",
     "Example",
     "Finding",
@@ -98,6 +100,7 @@ __all__ = [
     "SynthReport",
     "TaskTree",
     "TreeCheck",
+    "batch",
     "check",
     "example",
     "load",
@@ -131,6 +134,7 @@ _LAZY: dict[str, str] = {
     **dict.fromkeys(("GoalExplanation", "Similar"), "foon._explain"),
     **dict.fromkeys(("Profile", "Profiles", "SplitResult"), "foon._split"),
     "KitchenSet": "foon._kitchens",
+    **dict.fromkeys(("BatchSummary", "batch"), "foon._batch"),
 }
 
 

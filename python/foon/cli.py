@@ -1,6 +1,6 @@
 """The ``foon`` command line: ``foon plan``, ``compare``, ``verify``, ``check``, ``stats``,
 ``export``, ``draw``, ``index``,
-``merge``, ``synth``.
+``merge``, ``synth``, ``batch``.
 
 Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
 stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
@@ -98,11 +98,12 @@ COMMANDS = (
     "explain",
     "find",
     "split",
+    "batch",
 )
 
 #: Commands implemented in their own module (``foon._cli_NAME``: ``cmd_NAME`` and
 #: ``add_NAME_options``), imported only when the command runs.
-_OWN_MODULE = ("index", "merge", "synth", "paths", "explain", "find", "split")
+_OWN_MODULE = ("index", "merge", "synth", "paths", "explain", "find", "split", "batch")
 
 
 def _columns() -> int:
@@ -251,6 +252,15 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
                 "of its steps to the human that maximise the tree's success over all valid "
                 "trees (--profile robot=FILE, --profile human=FILE; the human's rates are 1 by "
                 "default). Prints the front of success against human steps."
+            ),
+        ),
+        "batch": (
+            "plan a file of (kitchen, goal, method) queries into Parquet",
+            (
+                "Plans every query of a Parquet, CSV or JSON-lines table (query_id, "
+                "kitchen_id, goal, method, options) over a .foonidx with a set of named "
+                "kitchens, locally or on a Dask cluster, into Parquet partitions written "
+                "atomically; a rerun with the same inputs resumes. Prints a summary."
             ),
         ),
         "draw": (

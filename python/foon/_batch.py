@@ -1,0 +1,724 @@
+"""Batches of queries from a file to a folder of Parquet partitions: :func:`batch`.
+
+The queries are read as a stream (Parquet by record batches, CSV by
+``pyarrow.csv.open_csv``, JSON lines in blocks of lines through ``pyarrow.json``) and cut
+into chunks of ``chunk_size`` rows: partition ``k`` holds the answers to rows
+``k * chunk_size`` to ``(k + 1) * chunk_size - 1``, in order, planned by
+:func:`foon._arrow.plan_table` (locally, or on Dask workers, :mod:`foon._dask`). Each
+partition is written atomically (a temporary file in the output folder, then a rename), and
+``_manifest.json`` (written the same way after each partition) records the inputs'
+fingerprints and every finished partition with its row count and SHA-256, so that a rerun
+with the same inputs plans only the partitions that are missing. The layout, the manifest
+and the resume rules are in ``docs/BATCH.md`` ("Output and resume").
+
+The input file is read twice: once to check it (columns, types, every row parsed; a bad
+file is an error before any output) and count its rows, once to plan. Memory holds a few
+chunks at a time, whatever the number of queries."""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import json
+import os
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import pyarrow as pa  # type: ignore[import-untyped]
+
+    from foon import Foon, MotionsLike, UtensilsLike
+    from foon._kitchens import KitchenSet
+
+__all__ = ["DEFAULT_CHUNK_SIZE", "MANIFEST", "BatchSummary", "batch", "read_queries"]
+
+#: Queries per chunk (per partition, and per Dask task) when ``chunk_size`` is not given:
+#: large enough that a Dask task's fixed cost (scheduling, shipping the chunk, a few
+#: milliseconds) is a small share of its planning, small enough that a few chunks in flight
+#: stay in tens of megabytes.
+DEFAULT_CHUNK_SIZE = 20_000
+
+#: The manifest's file name in the output folder, and its format tag.
+MANIFEST = "_manifest.json"
+_FORMAT = "foon-batch/1"
+
+#: Rows per block when reading JSON lines.
+_JSON_BLOCK = 16_384
+
+_SUFFIXES = {
+    ".parquet": "parquet",
+    ".pq": "parquet",
+    ".csv": "csv",
+    ".jsonl": "jsonl",
+    ".ndjson": "jsonl",
+    ".json": "jsonl",
+}
+
+_REQUIRED = ("query_id", "kitchen_id", "goal", "method")
+
+
+@dataclass(frozen=True)
+class BatchSummary:
+    """What a batch did: every query of the input (kept partitions included), how many
+    were solved, the failures by code, and the time and throughput of this run (over the
+    queries it planned)."""
+
+    queries: int
+    solved: int
+    failures: dict[str, int]
+    partitions: int
+    planned_partitions: int
+    planned_queries: int
+    seconds: float
+    engine: str
+    out: str
+    chunk_size: int
+    kept_partitions: int = field(default=0)
+
+    @property
+    def throughput(self) -> float | None:
+        """Queries planned per second in this run (None when nothing was planned)."""
+        if self.planned_queries == 0 or self.seconds <= 0:
+            return None
+        return self.planned_queries / self.seconds
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "queries": self.queries,
+            "solved": self.solved,
+            "failures": dict(sorted(self.failures.items())),
+            "partitions": self.partitions,
+            "planned_partitions": self.planned_partitions,
+            "kept_partitions": self.kept_partitions,
+            "planned_queries": self.planned_queries,
+            "seconds": round(self.seconds, 6),
+            "throughput": None if self.throughput is None else round(self.throughput, 3),
+            "engine": self.engine,
+            "chunk_size": self.chunk_size,
+            "out": self.out,
+        }
+
+
+# --- reading queries ------------------------------------------------------------------------
+
+
+def _format_of(path: str) -> str:
+    ext = os.path.splitext(path)[1].lower()
+    try:
+        return _SUFFIXES[ext]
+    except KeyError:
+        raise ValueError(
+            f"{path}: unknown query file type {ext or '(no extension)'!r} "
+            "(.parquet, .csv or .jsonl)"
+        ) from None
+
+
+def _check_schema(path: str, schema: pa.Schema) -> None:
+    """The query columns are there and of usable types (``ValueError`` naming the column)."""
+    import pyarrow as pa
+
+    names = schema.names
+    for name in _REQUIRED:
+        if name not in names:
+            raise ValueError(
+                f"{path}: the query table has no column '{name}' (columns: {', '.join(names)})"
+            )
+    for name in (*_REQUIRED, "options"):
+        if name not in names:
+            continue
+        t = schema.field(name).type
+        if pa.types.is_dictionary(t):
+            t = t.value_type
+        ok = pa.types.is_string(t) or pa.types.is_large_string(t) or pa.types.is_null(t)
+        if name == "query_id":
+            ok = (ok and not pa.types.is_null(t)) or pa.types.is_integer(t)
+        if not ok:
+            raise ValueError(f"{path}: query column '{name}' must be strings, not {t}")
+
+
+def _select(batch: pa.RecordBatch) -> pa.RecordBatch:
+    """Only the query columns, in order."""
+    names = [c for c in ("query_id", "kitchen_id", "goal", "method", "options") if c in
+             batch.schema.names]  # fmt: skip
+    return batch.select(names)
+
+
+def _null_ids(path: str, batch: pa.RecordBatch, first_row: int, line_of: Callable[[int], int]
+              ) -> None:  # fmt: skip
+    col = batch.column("query_id")
+    if col.null_count:
+        import pyarrow.compute as pc  # type: ignore[import-untyped]
+
+        i = int(pc.index(col.is_null(), True).as_py())
+        raise ValueError(f"{path}:{line_of(first_row + i)}: the query has no query_id")
+
+
+def _parquet_batches(path: str, rows: int) -> Iterator[pa.RecordBatch]:
+    import pyarrow.parquet as pq  # type: ignore[import-untyped]
+
+    try:
+        f = pq.ParquetFile(path)
+    except Exception as e:  # noqa: BLE001 - pyarrow raises many kinds for a bad file
+        raise ValueError(f"{path}: not a readable Parquet file: {e}") from None
+    with f:
+        _check_schema(path, f.schema_arrow)
+        cols = [c for c in ("query_id", "kitchen_id", "goal", "method", "options")
+                if c in f.schema_arrow.names]  # fmt: skip
+        try:
+            yield from f.iter_batches(batch_size=rows, columns=cols)
+        except OSError as e:
+            raise ValueError(f"{path}: {e}") from None
+
+
+def _csv_line_error(path: str) -> str | None:
+    """Where the CSV file goes wrong (a row with the wrong number of fields), found with
+    the ``csv`` module when pyarrow's reader has refused it."""
+    import csv
+
+    with open(path, encoding="utf-8", newline="") as f:
+        reader = csv.reader(f)
+        try:
+            header = next(reader)
+        except StopIteration:
+            return f"{path}:1:1: the CSV file is empty"
+        except (csv.Error, UnicodeDecodeError) as e:
+            return f"{path}:1:1: {e}"
+        try:
+            for row in reader:
+                if len(row) != len(header):
+                    return (
+                        f"{path}:{reader.line_num}:1: expected {len(header)} fields, got {len(row)}"
+                    )
+        except (csv.Error, UnicodeDecodeError) as e:
+            return f"{path}:{reader.line_num}:1: {e}"
+    return None
+
+
+def _csv_batches(path: str) -> Iterator[pa.RecordBatch]:
+    import pyarrow as pa
+    import pyarrow.csv as pcsv  # type: ignore[import-untyped]
+
+    text = {name: pa.string() for name in ("query_id", "kitchen_id", "goal", "method",
+                                           "options")}  # fmt: skip
+    try:
+        reader = pcsv.open_csv(
+            path,
+            read_options=pcsv.ReadOptions(block_size=1 << 20),
+            convert_options=pcsv.ConvertOptions(
+                column_types=text, strings_can_be_null=False, quoted_strings_can_be_null=False
+            ),
+        )
+    except pa.ArrowInvalid as e:
+        raise ValueError(_csv_line_error(path) or f"{path}: {e}") from None
+    with reader:
+        _check_schema(path, reader.schema)
+        while True:
+            try:
+                b = reader.read_next_batch()
+            except StopIteration:
+                return
+            except pa.ArrowInvalid as e:
+                raise ValueError(_csv_line_error(path) or f"{path}: {e}") from None
+            yield _select(b)
+
+
+def _json_value(path: str, line: int, obj: dict[str, Any], name: str) -> str | None:
+    v = obj.get(name)
+    if v is None or isinstance(v, str):
+        return v
+    if name == "query_id" and isinstance(v, int) and not isinstance(v, bool):
+        return str(v)
+    if name in ("goal", "options") and isinstance(v, dict):
+        return json.dumps(v, ensure_ascii=False)
+    raise ValueError(f"{path}:{line}: '{name}' must be a string, not {type(v).__name__}")
+
+
+def _json_block_slow(path: str, lines: list[bytes], first_line: int) -> pa.RecordBatch:
+    """A block of JSON lines parsed line by line (integer ids, goals and options given as
+    objects), naming the line and column of the first bad one."""
+    import pyarrow as pa
+
+    cols: dict[str, list[str | None]] = {c: [] for c in ("query_id", "kitchen_id", "goal",
+                                                          "method", "options")}  # fmt: skip
+    for i, raw in enumerate(lines):
+        line = first_line + i
+        if not raw.strip():
+            continue
+        try:
+            obj = json.loads(raw)
+        except UnicodeDecodeError as e:
+            raise ValueError(f"{path}:{line}:{e.start + 1}: not UTF-8") from None
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{path}:{line}:{e.colno}: {e.msg}") from None
+        if not isinstance(obj, dict):
+            raise ValueError(f"{path}:{line}:1: a query must be a JSON object")  # noqa: TRY004
+        for name in _REQUIRED:
+            if name not in obj:
+                raise ValueError(f"{path}:{line}:1: the query has no '{name}'")
+        for name, values in cols.items():
+            values.append(_json_value(path, line, obj, name))
+    return pa.RecordBatch.from_pydict(cols, schema=_json_schema())
+
+
+def _json_schema() -> pa.Schema:
+    import pyarrow as pa
+
+    return pa.schema([(c, pa.string()) for c in ("query_id", "kitchen_id", "goal", "method",
+                                                 "options")])  # fmt: skip
+
+
+def _json_batches(path: str) -> Iterator[pa.RecordBatch]:
+    import pyarrow as pa
+    import pyarrow.json as pjson  # type: ignore[import-untyped]
+
+    opts = pjson.ParseOptions(explicit_schema=_json_schema(), unexpected_field_behavior="ignore")
+    with open(path, "rb") as f:
+        line = 1
+        while True:
+            lines = [raw for raw in (f.readline() for _ in range(_JSON_BLOCK)) if raw]
+            if not lines:
+                return
+            block = b"".join(x if x.endswith(b"\n") else x + b"\n" for x in lines)
+            try:
+                t = pjson.read_json(io.BytesIO(block), parse_options=opts)
+                # Missing keys, integer ids, goals as objects, blank lines: line by line.
+                if t.num_rows != len(lines) or any(t.column(c).null_count for c in _REQUIRED):
+                    raise pa.ArrowInvalid("not plain")
+                out = pa.RecordBatch.from_arrays(
+                    [t.column(c).combine_chunks() for c in t.column_names], schema=t.schema
+                )
+            except pa.ArrowInvalid:
+                out = _json_block_slow(path, lines, line)
+            yield out
+            line += len(lines)
+
+
+def read_queries(path: str, rows: int = DEFAULT_CHUNK_SIZE) -> Iterator[pa.RecordBatch]:
+    """The query rows of a Parquet, CSV or JSON-lines file, as record batches of the query
+    columns (at most ``rows`` rows each for Parquet; a block at a time for the others).
+    A file that cannot be read as queries is a ``ValueError`` naming it (and the line, for
+    text files); a missing file is ``FileNotFoundError``."""
+    path = os.fspath(path)
+    kind = _format_of(path)
+    if not os.path.isfile(path):
+        if os.path.exists(path):
+            raise ValueError(f"{path}: not a file")
+        raise FileNotFoundError(f"{path}: no such file")
+    if kind == "parquet":
+        return _parquet_batches(path, rows)
+    if kind == "csv":
+        return _csv_batches(path)
+    return _json_batches(path)
+
+
+def _line_mapper(kind: str) -> Callable[[int], int]:
+    # Row i (0-based) is on line i + 2 of a CSV file (header first); on line i + 1 of a JSON
+    # lines file without blank lines; Parquet has rows, not lines (reported as row i + 1).
+    if kind == "csv":
+        return lambda i: i + 2
+    return lambda i: i + 1
+
+
+def scan_queries(path: str) -> int:
+    """Reads the whole query file once, checking it; returns its row count."""
+    kind = _format_of(os.fspath(path))
+    n = 0
+    for b in read_queries(path):
+        _check_schema(os.fspath(path), b.schema)
+        _null_ids(os.fspath(path), b, n, _line_mapper(kind))
+        n += b.num_rows
+    return n
+
+
+def chunks(path: str, size: int) -> Iterator[tuple[int, pa.Table]]:
+    """``(k, table)``: the query rows of partition ``k``, ``size`` rows each but the last."""
+    import pyarrow as pa
+
+    pending: list[pa.RecordBatch] = []
+    have = 0
+    k = 0
+    for b in read_queries(path, size):
+        while b.num_rows:
+            take = min(size - have, b.num_rows)
+            pending.append(b.slice(0, take))
+            have += take
+            b = b.slice(take)
+            if have == size:
+                yield k, _normalise(pa.Table.from_batches(pending))
+                pending, have, k = [], 0, k + 1
+    if have:
+        yield k, _normalise(pa.Table.from_batches(pending))
+
+
+def _normalise(t: pa.Table) -> pa.Table:
+    """The chunk in one record batch per column, ids as strings (the same bytes whatever
+    the input's batching, so that results do not depend on it)."""
+    import pyarrow as pa
+
+    if not pa.types.is_string(t.schema.field("query_id").type):
+        t = t.set_column(0, "query_id", t.column("query_id").cast(pa.string()))
+    return t.combine_chunks()
+
+
+# --- fingerprints and the manifest ----------------------------------------------------------
+
+
+def file_fingerprint(path: str) -> dict[str, Any]:
+    """The query file's size and the BLAKE2b-128 of its whole content (its modification
+    time is left out: a copy or a touch of the same bytes is the same input)."""
+    h = hashlib.blake2b(digest_size=16)
+    size = 0
+    with open(path, "rb") as f:
+        while block := f.read(1 << 22):
+            h.update(block)
+            size += len(block)
+    return {"size": size, "blake2b": h.hexdigest()}
+
+
+def _sha256(path: str) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        while block := f.read(1 << 22):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _settings_fingerprint(motions: Any, utensils: Any, default_rate: float | None) -> str:
+    from foon import _as_rates, _as_utensils
+
+    rates = _as_rates(motions)
+    text = json.dumps(
+        {
+            "motions": None if rates is None else sorted(rates.items()),
+            "utensils": sorted(_as_utensils(utensils)),
+            "default_rate": default_rate,
+        },
+        sort_keys=True,
+    )
+    return hashlib.blake2b(text.encode(), digest_size=16).hexdigest()
+
+
+def _write_atomic(folder: str, name: str, write: Callable[[str], None]) -> None:
+    """Writes ``folder/name`` through a temporary file in ``folder`` and a rename: a reader
+    sees the old file or the whole new one, never a part."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
+    os.close(fd)
+    try:
+        write(tmp)
+        with open(tmp, "rb") as f:
+            os.fsync(f.fileno())
+        os.replace(tmp, os.path.join(folder, name))
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def _write_json(folder: str, name: str, data: dict[str, Any]) -> None:
+    def write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(data, f, indent=1, sort_keys=False)
+            f.write("\n")
+
+    _write_atomic(folder, name, write)
+
+
+def part_name(k: int) -> str:
+    return f"part-{k:05d}.parquet"
+
+
+def _is_ours(name: str) -> bool:
+    return (
+        name == MANIFEST
+        or (name.startswith("part-") and name.endswith(".parquet"))
+        or (name.startswith((".part-", "." + MANIFEST + ".")) and name.endswith(".tmp"))
+    )
+
+
+def _clean(folder: str, everything: bool) -> None:
+    """Removes the temporary files of an interrupted run (and, with ``everything``, the
+    partitions and the manifest too); other files are left alone."""
+    for name in os.listdir(folder):
+        if _is_ours(name) and (everything or name.endswith(".tmp")):
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(os.path.join(folder, name))
+
+
+def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str, Any]:
+    """The partitions of an earlier run with the same inputs that can be kept (each file
+    there, its SHA-256 as recorded); a folder holding another batch's results (or other
+    files) is an error unless ``resume`` is false."""
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise FileExistsError(f"{out}: exists and is not a folder")
+    os.makedirs(out, exist_ok=True)
+    manifest_path = os.path.join(out, MANIFEST)
+    if not resume:
+        _clean(out, everything=True)
+        return {}
+    old: dict[str, Any] | None = None
+    if os.path.exists(manifest_path):
+        try:
+            with open(manifest_path, encoding="utf-8") as f:
+                old = json.load(f)
+        except (OSError, ValueError):
+            old = None
+        if not isinstance(old, dict) or old.get("format") != _FORMAT:
+            raise FileExistsError(
+                f"{out}: holds a _manifest.json that is not a batch's (use --overwrite to "
+                "replace it)"
+            )
+        if old.get("inputs") != inputs:
+            diff = [k for k in inputs if old.get("inputs", {}).get(k) != inputs[k]]
+            raise FileExistsError(
+                f"{out}: holds the results of a batch with other inputs (differ: "
+                f"{', '.join(diff) or 'format'}); use --overwrite to replace them"
+            )
+    elif any(n.startswith("part-") and n.endswith(".parquet") for n in os.listdir(out)):
+        raise FileExistsError(
+            f"{out}: holds partitions but no _manifest.json; use --overwrite to replace them"
+        )
+    _clean(out, everything=False)
+    kept: dict[str, Any] = {}
+    for key, entry in (old or {}).get("partitions", {}).items():
+        p = os.path.join(out, entry.get("file", ""))
+        if os.path.isfile(p) and _sha256(p) == entry.get("sha256"):
+            kept[key] = entry
+    return kept
+
+
+# --- the batch --------------------------------------------------------------------------------
+
+
+class _Progress:
+    """A one-line bar on stderr: queries done of the total, and the rate."""
+
+    def __init__(self, total: int, done: int) -> None:
+        self.total = total
+        self.start_done = done
+        self.t0 = time.perf_counter()
+        self.last = 0.0
+        self.shown = -1
+
+    def __call__(self, done: int, total: int, final: bool = False) -> None:
+        now = time.perf_counter()
+        if final and self.shown == done:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            return
+        if not final and now - self.last < 0.1 and done < total:
+            return
+        self.last = now
+        self.shown = done
+        width = 30
+        frac = done / total if total else 1.0
+        bar = "#" * int(frac * width)
+        rate = (done - self.start_done) / max(now - self.t0, 1e-9)
+        line = f"\r[{bar:<{width}}] {done:,}/{total:,} queries  {rate:,.0f}/s"
+        sys.stderr.write(line + ("\n" if final else ""))
+        sys.stderr.flush()
+
+
+def _count(t: pa.Table) -> tuple[int, dict[str, int]]:
+    import pyarrow.compute as pc
+
+    solved = int(pc.sum(t.column("solved")).as_py() or 0)
+    failures: dict[str, int] = {}
+    vc = pc.value_counts(t.column("failure").drop_null())
+    for item in vc.to_pylist():
+        failures[str(item["values"])] = int(item["counts"])
+    return solved, dict(sorted(failures.items()))
+
+
+def _native_foon(foon: Any) -> Foon:
+    from foon import Foon
+
+    if isinstance(foon, Foon):
+        return foon
+    if isinstance(foon, str | os.PathLike):
+        return Foon.load(foon)
+    raise TypeError(f"foon must be a Foon or the path of a .foonidx, not {type(foon).__name__}")
+
+
+def _kitchen_set(kitchens: Any) -> KitchenSet:
+    from foon._kitchens import KitchenSet
+
+    if isinstance(kitchens, KitchenSet):
+        return kitchens
+    if isinstance(kitchens, str | os.PathLike):
+        return KitchenSet.load(kitchens)
+    from collections.abc import Mapping
+
+    if isinstance(kitchens, Mapping):
+        return KitchenSet(kitchens)
+    raise TypeError(
+        f"kitchens must be a KitchenSet, a mapping or a path, not {type(kitchens).__name__}"
+    )
+
+
+def batch(
+    queries: str | os.PathLike[str],
+    *,
+    foon: Foon | str | os.PathLike[str],
+    kitchens: KitchenSet | str | os.PathLike[str],
+    out: str | os.PathLike[str],
+    engine: str = "local",
+    client: Any = None,
+    scheduler: str | None = None,
+    chunk_size: int | None = None,
+    threads: int | None = None,
+    resume: bool = True,
+    progress: bool | Callable[[int, int], None] | None = None,
+    motions: MotionsLike = None,
+    utensils: UtensilsLike = None,
+    default_rate: float | None = None,
+) -> BatchSummary:
+    """Answers every query of the file ``queries`` (Parquet, CSV or JSON lines; columns
+    ``query_id``, ``kitchen_id``, ``goal``, ``method`` and optionally ``options``) over
+    ``foon`` with ``kitchens``, into Parquet partitions in the folder ``out`` (schema
+    :data:`foon._arrow.RESULT_SCHEMA`, one row per query, in query order across
+    ``part-00000.parquet``, ``part-00001.parquet``, ...).
+
+    ``engine``: ``"local"`` (the core's thread pool, ``threads`` threads) or ``"dask"``
+    (``client``, a ``distributed.Client``, or ``scheduler``, its address; with neither, a
+    local cluster of one single-threaded worker process per core; ``threads`` is then the
+    core threads of each task, 1 by default). ``chunk_size``: queries per partition and per
+    task (default :data:`DEFAULT_CHUNK_SIZE`). With ``resume`` (default), an ``out`` that
+    holds an earlier run of the same inputs keeps its confirmed partitions and plans only
+    the missing ones; ``resume=False`` replaces what is there. ``progress``: ``True`` draws
+    a bar on stderr, a callable is called as ``progress(done_queries, total_queries)``
+    after each partition. A bad query is a result row with its failure code; a bad input
+    file is an error (``ValueError``, ``FileNotFoundError``) before any output is
+    written."""
+    import foon as _pkg
+    from foon import _arrow
+
+    if engine not in ("local", "dask"):
+        raise ValueError(f"unknown engine {engine!r} (local or dask)")
+    if chunk_size is None:
+        chunk_size = DEFAULT_CHUNK_SIZE
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
+        raise ValueError(f"chunk_size must be a whole number of at least 1, not {chunk_size!r}")
+    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int)
+                                or threads < 1):  # fmt: skip
+        raise ValueError(f"threads must be a whole number of at least 1, not {threads!r}")
+    qpath = os.fspath(queries)
+    opath = os.fspath(out)
+    if isinstance(qpath, bytes) or isinstance(opath, bytes):
+        raise TypeError("paths must be str")
+    f = _native_foon(foon)
+    ks = _kitchen_set(kitchens)
+    rates = _pkg._as_rates(motions)
+    tools = _pkg._as_utensils(utensils)
+
+    # Everything that can be wrong with the inputs is found before the output is touched.
+    total = scan_queries(qpath)
+    if engine == "dask" and f.index_path is None:
+        raise ValueError(
+            "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
+        )
+    inputs = {
+        "index": f.fingerprint,
+        "kitchens": ks.fingerprint,
+        "queries": file_fingerprint(qpath),
+        "settings": _settings_fingerprint(rates, tools, default_rate),
+        "chunk_size": chunk_size,
+        "rows": total,
+    }
+    kept = _prepare_output(opath, inputs, resume)
+    n_parts = (total + chunk_size - 1) // chunk_size
+    manifest: dict[str, Any] = {
+        "format": _FORMAT,
+        "inputs": inputs,
+        "partitions": dict(sorted(kept.items())),
+    }
+    _write_json(opath, MANIFEST, manifest)
+
+    done = sum(int(e["rows"]) for e in kept.values())
+    bar = _Progress(total, done) if progress is True else None
+    report: Callable[[int, int], None] | None = progress if callable(progress) else bar
+    if bar is not None:
+        bar(done, total)
+
+    planned = [0, 0]
+
+    def write(k: int, table: pa.Table) -> None:
+        nonlocal done
+        import pyarrow.parquet as pq
+
+        key = f"{k:05d}"
+        if key in manifest["partitions"]:
+            return  # written already (a task run twice after a worker died)
+        name = part_name(k)
+        _write_atomic(opath, name, lambda tmp: pq.write_table(table, tmp))
+        solved, failures = _count(table)
+        manifest["partitions"][key] = {
+            "file": name,
+            "rows": table.num_rows,
+            "sha256": _sha256(os.path.join(opath, name)),
+            "solved": solved,
+            "failures": failures,
+        }
+        manifest["partitions"] = dict(sorted(manifest["partitions"].items()))
+        _write_json(opath, MANIFEST, manifest)
+        done += table.num_rows
+        planned[0] += 1
+        planned[1] += table.num_rows
+        if report is not None:
+            report(done, total)
+
+    todo = ((k, t) for k, t in chunks(qpath, chunk_size) if f"{k:05d}" not in kept)
+    t0 = time.perf_counter()
+    if engine == "local":
+        for k, t in todo:
+            res = _arrow.plan_table(f, ks, t, threads=threads, motions=rates, utensils=tools,
+                                    default_rate=default_rate)  # fmt: skip
+            write(k, res)
+    else:
+        from foon import _dask
+
+        _dask.run(
+            todo,
+            write,
+            foon=f,
+            kitchens=ks,
+            client=client,
+            scheduler=scheduler,
+            threads=threads,
+            motions=rates,
+            utensils=tools,
+            default_rate=default_rate,
+            token=hashlib.blake2b(
+                json.dumps(inputs, sort_keys=True).encode(), digest_size=8
+            ).hexdigest(),
+        )
+    seconds = time.perf_counter() - t0
+    if bar is not None:
+        bar(done, total, True)
+    if len(manifest["partitions"]) != n_parts:
+        raise RuntimeError(
+            f"{opath}: {n_parts - len(manifest['partitions'])} partitions were not written"
+        )
+    solved = 0
+    failures: dict[str, int] = {}
+    for e in manifest["partitions"].values():
+        solved += int(e["solved"])
+        for code, c in e["failures"].items():
+            failures[code] = failures.get(code, 0) + int(c)
+    return BatchSummary(
+        queries=total,
+        solved=solved,
+        failures=failures,
+        partitions=n_parts,
+        planned_partitions=planned[0],
+        planned_queries=planned[1],
+        seconds=seconds,
+        engine=engine,
+        out=opath,
+        chunk_size=chunk_size,
+        kept_partitions=len(kept),
+    )

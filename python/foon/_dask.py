@@ -1,0 +1,238 @@
+"""The ``dask`` engine of :func:`foon.batch`: chunks of queries planned on the workers of a
+``distributed`` cluster.
+
+Each worker opens the ``.foonidx`` once, through a worker plugin (:class:`FoonPlugin`,
+``foon.load`` of the index path, its fingerprint checked against the client's), and holds
+the kitchen set, shipped once per worker as its bytes. A task carries only its chunk of
+queries (Arrow IPC bytes) and returns its answers the same way; the client writes each
+partition as its task completes, with a bounded number of tasks in flight. A worker that
+dies takes its running tasks (and results not yet fetched) with it; the scheduler runs them
+again elsewhere, and the client writes each partition once. Needs ``pip install
+foon[dask]``."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any
+
+from distributed import WorkerPlugin
+
+if TYPE_CHECKING:
+    import pyarrow as pa  # type: ignore[import-untyped]
+
+    from foon import Foon, MotionRates
+    from foon._kitchens import KitchenSet
+
+__all__ = ["FoonPlugin", "plan_chunk", "run"]
+
+#: Tasks in flight per worker thread: one planning, one queued behind it so that the
+#: worker never waits for the client.
+IN_FLIGHT_PER_THREAD = 2
+
+#: How many times a task is retried when it fails (on top of the scheduler's own reruns of
+#: the tasks of a worker that died).
+RETRIES = 2
+
+
+def _to_ipc(table: pa.Table) -> bytes:
+    import pyarrow as pa
+
+    sink = pa.BufferOutputStream()
+    with pa.ipc.new_stream(sink, table.schema) as w:
+        w.write_table(table)
+    return sink.getvalue().to_pybytes()  # type: ignore[no-any-return]
+
+
+def _from_ipc(data: bytes) -> pa.Table:
+    import pyarrow as pa
+
+    with pa.ipc.open_stream(pa.py_buffer(data)) as r:
+        return r.read_all()
+
+
+class FoonPlugin(WorkerPlugin):
+    """Opens the index once per worker (checking its fingerprint) and holds the kitchen set
+    and the planning settings for the tasks of one batch. Pickled to each worker with only
+    the index path, the fingerprint and the kitchen set's bytes."""
+
+    def __init__(
+        self,
+        index_path: str,
+        fingerprint: str,
+        kitchens: bytes,
+        motions: list[tuple[str, float]] | None,
+        utensils: list[str],
+        default_rate: float | None,
+    ) -> None:
+        self.index_path = index_path
+        self.fingerprint = fingerprint
+        self.kitchen_bytes = kitchens
+        self.motions = motions
+        self.utensils = utensils
+        self.default_rate = default_rate
+        self.foon: Foon | None = None
+        self.kitchens: KitchenSet | None = None
+        #: How many times this worker opened the index (1 after setup).
+        self.opens = 0
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = dict(self.__dict__)
+        state["foon"] = None
+        state["kitchens"] = None
+        state["opens"] = 0
+        return state
+
+    def setup(self, worker: Any) -> None:
+        import foon
+        from foon._kitchens import KitchenSet
+
+        f = foon.load(self.index_path)
+        if f.fingerprint != self.fingerprint:
+            raise RuntimeError(
+                f"{self.index_path}: on worker {worker.address} the index has fingerprint "
+                f"{f.fingerprint}, not the client's {self.fingerprint}"
+            )
+        self.foon = f
+        self.kitchens = KitchenSet.from_bytes(self.kitchen_bytes)
+        self.opens += 1
+
+    def teardown(self, worker: Any) -> None:
+        self.foon = None
+        self.kitchens = None
+
+
+def plan_chunk(name: str, queries: bytes, threads: int) -> bytes:
+    """The task: answers one chunk of queries (Arrow IPC bytes) with the index and kitchens
+    of the worker's plugin ``name``; returns the result table as Arrow IPC bytes."""
+    from distributed import get_worker
+
+    from foon import _arrow
+
+    worker = get_worker()
+    plugin = worker.plugins.get(name)
+    if not isinstance(plugin, FoonPlugin) or plugin.foon is None or plugin.kitchens is None:
+        raise RuntimeError(f"worker {worker.address} has not opened the batch's index")
+    table = _arrow.plan_table(
+        plugin.foon,
+        plugin.kitchens,
+        _from_ipc(queries),
+        threads=threads,
+        motions=None if plugin.motions is None else dict(plugin.motions),
+        utensils=plugin.utensils,
+        default_rate=plugin.default_rate,
+    )
+    return _to_ipc(table)
+
+
+def _worker_threads(client: Any) -> int:
+    info = client.scheduler_info()
+    return max(1, sum(int(w.get("nthreads", 1)) for w in info.get("workers", {}).values()))
+
+
+def run(
+    chunks: Iterable[tuple[int, pa.Table]],
+    write: Callable[[int, pa.Table], None],
+    *,
+    foon: Foon,
+    kitchens: KitchenSet,
+    client: Any,
+    scheduler: str | None,
+    threads: int | None,
+    motions: MotionRates | None,
+    utensils: list[str],
+    default_rate: float | None,
+    token: str,
+) -> None:
+    """Plans ``chunks`` on the cluster (``client``, else a client of ``scheduler``, else a
+    local cluster of one single-threaded worker process per core) and calls ``write(k,
+    results)`` once per chunk, as the tasks complete."""
+    from distributed import Client, LocalCluster
+
+    path = foon.index_path
+    if path is None:
+        raise ValueError("the dask engine needs a FOON opened from a .foonidx file")
+    own: list[Any] = []
+    try:
+        if client is None:
+            if scheduler is not None:
+                client = Client(scheduler)  # type: ignore[no-untyped-call]
+            else:
+                cluster = LocalCluster(  # type: ignore[no-untyped-call]
+                    n_workers=os.cpu_count() or 1,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                )
+                own.append(cluster)
+                client = Client(cluster)  # type: ignore[no-untyped-call]
+            own.insert(0, client)
+        name = f"foon-batch-{token}"
+        plugin = FoonPlugin(
+            os.path.abspath(path),
+            foon.fingerprint,
+            kitchens.to_bytes(),
+            None if motions is None else list(motions.items()),
+            list(utensils),
+            default_rate,
+        )
+        client.register_plugin(plugin, name=name)
+        try:
+            _drive(client, chunks, write, name, threads or 1)
+        finally:
+            # A closed or broken client has nothing to undo.
+            with contextlib.suppress(Exception):
+                client.unregister_worker_plugin(name)
+    finally:
+        for c in own:
+            c.close()
+
+
+def _drive(
+    client: Any,
+    chunks: Iterable[tuple[int, pa.Table]],
+    write: Callable[[int, pa.Table], None],
+    name: str,
+    threads: int,
+) -> None:
+    from distributed import as_completed
+
+    limit = max(2, IN_FLIGHT_PER_THREAD * _worker_threads(client))
+    source = iter(chunks)
+    running: dict[Any, int] = {}
+    ac = as_completed()  # type: ignore[no-untyped-call]
+
+    def submit_next() -> bool:
+        try:
+            k, table = next(source)
+        except StopIteration:
+            return False
+        fut = client.submit(
+            plan_chunk,
+            name,
+            _to_ipc(table),
+            threads,
+            key=f"{name}-{k:05d}",
+            pure=False,
+            retries=RETRIES,
+        )
+        running[fut] = k
+        ac.add(fut)  # type: ignore[no-untyped-call]
+        return True
+
+    while len(running) < limit and submit_next():
+        pass
+    for fut in ac:
+        k = running.pop(fut)
+        try:
+            data = fut.result()
+        except Exception as e:
+            for other in running:
+                other.cancel()
+            raise RuntimeError(f"partition {k}: the task failed on the cluster: {e}") from e
+        write(k, _from_ipc(data))
+        fut.release()
+        del fut
+        while len(running) < limit and submit_next():
+            pass

@@ -1,0 +1,356 @@
+"""``foon.batch`` and ``foon batch`` with the local engine: the answers of every input format
+equal the per-query reference and the whole-table ``plan_table``, whatever the chunking;
+resume plans only what is missing; bad queries are rows, bad files are errors before any
+output; an interrupted run leaves only whole partitions."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+pa = pytest.importorskip("pyarrow")
+pq = pytest.importorskip("pyarrow.parquet")
+
+import foon
+from batch_files import Data, key_rows, read_parts, reference_row
+from foon import _arrow, _batch
+from foon.cli import main
+
+
+@pytest.fixture(scope="module")
+def data(tmp_path_factory: pytest.TempPathFactory) -> Data:
+    return Data(tmp_path_factory.mktemp("batch"))
+
+
+@pytest.fixture(scope="module")
+def whole(data: Data) -> Any:
+    """The whole query table answered in one ``plan_table`` call."""
+    return _arrow.plan_table(data.foon, data.kitchens, data.table, motions=data.motions)
+
+
+def run(data: Data, out: Path, kind: str = "parquet", **kw: Any) -> _batch.BatchSummary:
+    kw.setdefault("chunk_size", 128)
+    return foon.batch(
+        data.path(kind), foon=data.index, kitchens=data.kitchens, out=out,
+        motions=data.motions, **kw,
+    )  # fmt: skip
+
+
+def manifest(out: Path) -> dict[str, Any]:
+    return json.loads((out / _batch.MANIFEST).read_text())  # type: ignore[no-any-return]
+
+
+@pytest.mark.parametrize("kind", ["parquet", "csv", "jsonl"])
+def test_formats_equal_reference(data: Data, whole: Any, tmp_path: Path, kind: str) -> None:
+    s = run(data, tmp_path / "out", kind)
+    got = read_parts(tmp_path / "out")
+    assert got.schema == _arrow.RESULT_SCHEMA
+    assert got.equals(whole)
+    assert key_rows(got) == [reference_row(data, r) for r in data.rows]
+    assert got.column("query_id").to_pylist() == [r["query_id"] for r in data.rows]
+    assert s.queries == len(data.rows) and s.partitions == 5 and s.planned_partitions == 5
+    assert s.solved == sum(got.column("solved").to_pylist())
+    failures = [f for f in got.column("failure").to_pylist() if f is not None]
+    assert s.failures == {c: failures.count(c) for c in set(failures)}
+    m = manifest(tmp_path / "out")
+    assert [e["rows"] for e in m["partitions"].values()] == [128, 128, 128, 128, 88]
+    # The folder reads as one dataset (the manifest's name hides it from readers).
+    assert pq.read_table(tmp_path / "out").equals(whole)
+
+
+def test_bad_queries_are_rows(data: Data, whole: Any, tmp_path: Path) -> None:
+    s = run(data, tmp_path / "out")
+    rows = {r["query_id"]: r for r in read_parts(tmp_path / "out").to_pylist()}
+    assert rows["q00005"]["failure"] == "unknown-kitchen"
+    assert rows["q00011"]["failure"] == "goal-not-found"
+    assert rows["q00017"]["failure"] == "unknown-method"
+    assert rows["q00023"]["failure"] == "bad-option"
+    for code in ("unknown-kitchen", "goal-not-found", "unknown-method", "bad-option"):
+        assert s.failures[code] >= 1
+
+
+@pytest.mark.parametrize("chunk", [1, 37, 600, 10_000])
+def test_chunking_and_threads_change_nothing(
+    data: Data, whole: Any, tmp_path: Path, chunk: int
+) -> None:
+    if chunk == 1:  # one query per partition: a slice of the file is enough
+        sub = data.folder / "first40.parquet"
+        if not sub.exists():
+            pq.write_table(data.table.slice(0, 40), sub)
+        s = foon.batch(sub, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o",
+                       motions=data.motions, chunk_size=1)  # fmt: skip
+        assert s.partitions == 40
+        assert read_parts(tmp_path / "o").equals(whole.slice(0, 40))
+        return
+    for threads in (1, 2):
+        out = tmp_path / f"t{threads}"
+        s = run(data, out, "csv", chunk_size=chunk, threads=threads)
+        assert s.partitions == -(-len(data.rows) // chunk)
+        assert read_parts(out).equals(whole)
+
+
+def count_plans(monkeypatch: pytest.MonkeyPatch) -> list[list[str]]:
+    """Every chunk ``plan_table`` is called with (its query ids), from now on."""
+    calls: list[list[str]] = []
+    real = _arrow.plan_table
+
+    def counting(f: Any, ks: Any, queries: Any, **kw: Any) -> Any:
+        calls.append(queries.column("query_id").to_pylist())
+        return real(f, ks, queries, **kw)
+
+    monkeypatch.setattr(_arrow, "plan_table", counting)
+    return calls
+
+
+def test_resume_plans_only_the_missing(
+    data: Data, whole: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    out = tmp_path / "out"
+    run(data, out)
+    first = {p.name: p.read_bytes() for p in out.glob("part-*.parquet")}
+    (out / "part-00002.parquet").unlink()
+    calls = count_plans(monkeypatch)
+    s = run(data, out)
+    assert [c[0] for c in calls] == ["q00256"] and len(calls[0]) == 128
+    assert (s.planned_partitions, s.kept_partitions, s.planned_queries) == (1, 4, 128)
+    assert s.queries == len(data.rows)
+    assert read_parts(out).equals(whole)
+    assert {p.name: p.read_bytes() for p in out.glob("part-*.parquet")} == first
+    # A partition whose bytes no longer match the manifest's checksum is planned again.
+    p3 = out / "part-00003.parquet"
+    p3.write_bytes(p3.read_bytes()[:-20] + b"\0" * 20)
+    calls.clear()
+    s = run(data, out)
+    assert [c[0] for c in calls] == ["q00384"] and s.planned_partitions == 1
+    assert read_parts(out).equals(whole)
+    # Nothing missing: nothing planned.
+    calls.clear()
+    s = run(data, out)
+    assert calls == [] and s.planned_partitions == 0 and s.throughput is None
+    assert s.solved == sum(whole.column("solved").to_pylist())
+    # resume=False plans everything again.
+    s = run(data, out, resume=False)
+    assert len(calls) == 5 and s.planned_partitions == 5
+
+
+def test_other_inputs_are_an_error(data: Data, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    run(data, out)
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    other = foon.KitchenSet({"full": data.kitchen_items["full"]})
+    with pytest.raises(FileExistsError, match=r"other inputs.*kitchens"):
+        foon.batch(data.parquet, foon=data.index, kitchens=other, out=out,
+                   motions=data.motions, chunk_size=128)  # fmt: skip
+    with pytest.raises(FileExistsError, match="chunk_size"):
+        run(data, out, chunk_size=100)
+    with pytest.raises(FileExistsError, match="settings"):
+        foon.batch(data.parquet, foon=data.index, kitchens=data.kitchens, out=out,
+                   chunk_size=128)  # fmt: skip
+    with pytest.raises(FileExistsError, match="queries"):
+        run(data, out, "csv")
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    s = run(data, out, "csv", resume=False)
+    assert s.planned_partitions == 5
+
+
+def test_a_folder_of_other_partitions_is_left_alone(data: Data, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "part-00000.parquet").write_bytes(b"not ours")
+    (out / "notes.txt").write_text("kept")
+    with pytest.raises(FileExistsError, match=r"no _manifest\.json"):
+        run(data, out)
+    assert (out / "part-00000.parquet").read_bytes() == b"not ours"
+    run(data, out, resume=False)
+    assert (out / "notes.txt").read_text() == "kept"
+    assert len(list(out.glob("part-*.parquet"))) == 5
+
+
+def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
+    """(file, the error it must give)."""
+    cases: list[tuple[Path, str]] = []
+    t = data.table
+    p = folder / "no_goal.parquet"
+    pq.write_table(t.drop_columns(["goal"]), p)
+    cases.append((p, "no column 'goal'"))
+    p = folder / "int_goal.parquet"
+    pq.write_table(t.set_column(2, "goal", pa.array(range(t.num_rows))), p)
+    cases.append((p, "'goal' must be strings"))
+    p = folder / "null_id.parquet"
+    ids = t.column("query_id").to_pylist()
+    ids[300] = None
+    pq.write_table(t.set_column(0, "query_id", pa.array(ids, pa.string())), p)
+    cases.append((p, ":301: the query has no query_id"))
+    p = folder / "not.parquet"
+    p.write_text("query_id,kitchen_id\n")
+    cases.append((p, "not a readable Parquet file"))
+    lines = data.csv.read_text().splitlines(keepends=True)
+    p = folder / "short_row.csv"
+    p.write_text("".join([*lines[:400], '"q9","full"\n', *lines[400:]]))
+    cases.append((p, "short_row.csv:401:1: expected 5 fields, got 2"))
+    p = folder / "no_method.csv"
+    p.write_text("query_id,kitchen_id,goal\nq1,full,x\n")
+    cases.append((p, "no column 'method'"))
+    jl = data.jsonl.read_text().splitlines(keepends=True)
+    p = folder / "bad.jsonl"
+    p.write_text("".join([*jl[:450], '{"query_id": "x", "kitchen_id": }\n', *jl[450:]]))
+    cases.append((p, "bad.jsonl:451:33: Expecting value"))
+    p = folder / "no_kitchen.jsonl"
+    p.write_text("".join([*jl[:20], '{"query_id": "x", "goal": "g", "method": "ids"}\n']))
+    cases.append((p, "no_kitchen.jsonl:21:1: the query has no 'kitchen_id'"))
+    p = folder / "list_goal.jsonl"
+    p.write_text('{"query_id": "x", "kitchen_id": "k", "goal": [1], "method": "ids"}\n')
+    cases.append((p, "list_goal.jsonl:1: 'goal' must be a string"))
+    p = folder / "queries.txt"
+    p.write_text("")
+    cases.append((p, "unknown query file type '.txt'"))
+    return cases
+
+
+def test_bad_files_are_errors_before_any_output(data: Data, tmp_path: Path) -> None:
+    for i, (path, message) in enumerate(bad_files(tmp_path, data)):
+        out = tmp_path / f"out{i}"
+        with pytest.raises(ValueError) as err:
+            foon.batch(path, foon=data.index, kitchens=data.kitchens, out=out)
+        assert message in str(err.value), (path, str(err.value))
+        assert len(str(err.value).splitlines()) == 1
+        assert not out.exists(), path
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        foon.batch(tmp_path / "none.csv", foon=data.index, kitchens=data.kitchens,
+                   out=tmp_path / "o")  # fmt: skip
+    assert not (tmp_path / "o").exists()
+
+
+def test_integer_ids_and_goal_objects_in_json_lines(data: Data, whole: Any, tmp_path: Path
+                                                     ) -> None:  # fmt: skip
+    p = tmp_path / "objects.jsonl"
+    with open(p, "w", encoding="utf-8") as f:
+        for i, r in enumerate(data.rows[:50]):
+            d = dict(r)
+            d["query_id"] = i
+            if d["goal"].startswith("{"):
+                d["goal"] = json.loads(d["goal"])
+            if d["options"]:
+                d["options"] = json.loads(d["options"])
+            f.write(json.dumps(d) + "\n")
+    foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o",
+               motions=data.motions)  # fmt: skip
+    got = read_parts(tmp_path / "o")
+    assert got.column("query_id").to_pylist() == [str(i) for i in range(50)]
+    assert got.drop_columns(["query_id"]).equals(whole.slice(0, 50).drop_columns(["query_id"]))
+
+
+def test_an_empty_file_is_an_empty_batch(data: Data, tmp_path: Path) -> None:
+    p = tmp_path / "empty.csv"
+    p.write_text("query_id,kitchen_id,goal,method\n")
+    s = foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o")
+    assert (s.queries, s.partitions, s.solved, s.failures) == (0, 0, 0, {})
+    assert manifest(tmp_path / "o")["partitions"] == {}
+
+
+def test_an_interrupted_run_leaves_whole_partitions(
+    data: Data, whole: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    out = tmp_path / "out"
+
+    def stop(done: int, total: int) -> None:
+        if done >= 256:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run(data, out, progress=stop)
+    assert sorted(os.listdir(out)) == [_batch.MANIFEST, "part-00000.parquet",
+                                       "part-00001.parquet"]  # fmt: skip
+    assert list(manifest(out)["partitions"]) == ["00000", "00001"]
+    # A write that fails half way: no partition, no temporary file, the manifest as it was.
+    real = pq.write_table
+    writes = [0]
+
+    def failing(table: Any, where: Any, **kw: Any) -> None:
+        writes[0] += 1
+        if writes[0] == 2:
+            with open(where, "wb") as f:
+                f.write(b"PAR1 half a file")
+            raise OSError("disk full")
+        real(table, where, **kw)
+
+    monkeypatch.setattr(pq, "write_table", failing)
+    with pytest.raises(OSError, match="disk full"):
+        run(data, out)
+    assert sorted(os.listdir(out)) == [_batch.MANIFEST, "part-00000.parquet",
+                                       "part-00001.parquet", "part-00002.parquet"]  # fmt: skip
+    assert list(manifest(out)["partitions"]) == ["00000", "00001", "00002"]
+    monkeypatch.setattr(pq, "write_table", real)
+    s = run(data, out)
+    assert (s.planned_partitions, s.kept_partitions) == (2, 3)
+    assert read_parts(out).equals(whole)
+
+
+# --- the command ------------------------------------------------------------------------------
+
+
+def cli(data: Data, out: Path, *extra: str, kind: str = "csv") -> list[str]:
+    return [
+        "batch", str(data.path(kind)), "--foon", str(data.index), "--kitchens",
+        str(data.kitchens_path), "-o", str(out), "--motions", str(data.motions_path),
+        "--chunk-size", "200", *extra,
+    ]  # fmt: skip
+
+
+def test_cli_summary_and_json(data: Data, whole: Any, tmp_path: Path,
+                              capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    out = tmp_path / "out"
+    assert main(cli(data, out, "--threads", "2")) == 0
+    text, err = capsys.readouterr()
+    solved = sum(whole.column("solved").to_pylist())
+    assert text.splitlines()[0] == (f"600 queries: {solved} solved, {600 - solved} failed")
+    assert "  unknown-kitchen: 1" in text.splitlines()
+    assert "3 partitions in" in text and "(3 planned)" in text and "queries/s (local)" in text
+    assert err == ""  # no bar: stderr is not a terminal
+    assert read_parts(out).equals(whole)
+    (out / "part-00001.parquet").unlink()
+    assert main(cli(data, out, "--json")) == 0
+    s = json.loads(capsys.readouterr().out)
+    assert (s["queries"], s["solved"], s["planned_partitions"], s["kept_partitions"]) == (
+        600, solved, 1, 2,
+    )  # fmt: skip
+    assert s["failures"]["unknown-method"] == 1 and s["engine"] == "local"
+
+
+def test_cli_errors_are_one_line(data: Data, tmp_path: Path,
+                                 capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    for i, (path, message) in enumerate(bad_files(tmp_path, data)):
+        args = cli(data, tmp_path / f"o{i}")
+        args[1] = str(path)
+        assert main(args) == 1
+        out, err = capsys.readouterr()
+        assert out == ""
+        assert err.startswith("foon: error: ") and err.count("\n") == 1, err
+        assert message in err and "Traceback" not in err
+        assert not (tmp_path / f"o{i}").exists()
+    out = tmp_path / "out"
+    assert main(cli(data, out)) == 0
+    capsys.readouterr()
+    assert main(cli(data, out, kind="jsonl")) == 1
+    err = capsys.readouterr().err
+    assert "other inputs" in err and "--overwrite" in err and err.count("\n") == 1
+    assert main(cli(data, out, "--overwrite", kind="jsonl")) == 0
+    assert main(cli(data, out, "--scheduler", "tcp://127.0.0.1:1")) == 1
+    assert "--scheduler is for --engine dask" in capsys.readouterr().err
+
+
+def test_cli_start_does_not_import_pyarrow() -> None:
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, foon.cli; foon.cli.build_parser('batch'); "
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('pyarrow', 'dask', "
+        "'distributed')))"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert r.stdout.strip() == "[]"
