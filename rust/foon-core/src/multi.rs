@@ -252,6 +252,99 @@ pub fn prepare_many(
 
 type Batch = (Vec<u64>, Option<Events>);
 
+/// Bit planes of a counter at most: an FU with more than `2^MAX_PLANES` needed inputs is
+/// always wide.
+const MAX_PLANES: usize = 4;
+
+/// What every batch of one call shares, read once from the FOON and the base.
+struct Shared<'a> {
+    foon: &'a Foon,
+    base: &'a PreparedBase,
+    /// The FUs with no needed input (they fire in every lane in the first round).
+    free: Vec<u32>,
+    /// Bit planes per counter (1 to [`MAX_PLANES`]): an FU with at most `2^planes` needed
+    /// inputs is counted, one with more is wide.
+    planes: usize,
+    /// Per FU, the initial counter: its number of needed inputs minus one (0 when it has
+    /// none or is wide).
+    start: Vec<u8>,
+    /// Per FU, one bit: whether it is wide (empty when none is).
+    wide: Vec<u64>,
+    /// Per object, one bit: whether it is bare (never made).
+    bare: Vec<u64>,
+}
+
+impl<'a> Shared<'a> {
+    fn new(foon: &'a Foon, base: &'a PreparedBase) -> Self {
+        let n = foon.object_count();
+        let n_fu = foon.fu_count();
+        let mut free = Vec::new();
+        // How many FUs need more than 2^p inputs, for each p.
+        let mut over = [0usize; MAX_PLANES + 1];
+        for f in 0..n_fu as u32 {
+            let l = base.needed(f).len();
+            if l == 0 {
+                free.push(f);
+            }
+            for (p, c) in over.iter_mut().enumerate() {
+                *c += usize::from(l > 1 << p);
+            }
+        }
+        // The fewest planes that leave at most one FU in 16 wide.
+        let planes = (1..=MAX_PLANES)
+            .find(|&p| over[p] * 16 <= n_fu)
+            .unwrap_or(MAX_PLANES);
+        let mut start = Vec::with_capacity(n_fu);
+        let mut wide = Vec::new();
+        for f in 0..n_fu as u32 {
+            let l = base.needed(f).len();
+            if l > 1 << planes {
+                if wide.is_empty() {
+                    wide = vec![0u64; n_fu.div_ceil(64)];
+                }
+                wide[f as usize / 64] |= 1 << (f % 64);
+                start.push(0);
+            } else {
+                start.push(l.saturating_sub(1) as u8);
+            }
+        }
+        let mut bare = vec![0u64; n.div_ceil(64)];
+        for o in 0..n as u32 {
+            if foon.is_bare(o) {
+                bare[o as usize / 64] |= 1 << (o % 64);
+            }
+        }
+        Self {
+            foon,
+            base,
+            free,
+            planes,
+            start,
+            wide,
+            bare,
+        }
+    }
+}
+
+/// One worker's buffers, reused from batch to batch.
+#[derive(Default)]
+struct Scratch {
+    /// Per FU, `planes` words: bit `k` of word `j` is bit `j` of the number of its needed
+    /// slots still missing in lane `k`, minus one (until it fires there). A wide FU keeps
+    /// in word 0 the lanes where it fired.
+    cnt: Vec<u64>,
+    /// The objects that gained lanes in the round before, with the lanes gained.
+    frontier: Vec<(u32, u64)>,
+    /// The needed slots of the objects that gained lanes, with the lanes gained.
+    slots: Vec<(u32, u64)>,
+    /// The FUs firing this round, with their lanes.
+    fired: Vec<(u32, u64)>,
+    /// The outputs of this round's firings, with the lanes they may gain (repeats allowed).
+    made: Vec<(u32, u64)>,
+    /// (object, round, lanes gained), in round order.
+    log: Vec<(u32, u32, u64)>,
+}
+
 /// Runs every batch of 64 kitchens, on the pool when there are several and more than one
 /// worker; results in batch order (the first error in batch order wins).
 fn run_batches(
@@ -272,28 +365,28 @@ fn run_batches(
     }
     let chunks: Vec<&[&[u32]]> = kitchens.chunks(LANES).collect();
     let workers = opts.workers(chunks.len())?;
+    if chunks.is_empty() {
+        return Ok(Vec::new());
+    }
     let never = || false;
     let cancel: &(dyn Fn() -> bool + Sync) = opts.cancel.unwrap_or(&never);
-    // The FUs with no needed input fire in every lane in the first round.
-    let free: Vec<u32> = (0..foon.fu_count() as u32)
-        .filter(|&f| base.needed(f).is_empty())
-        .collect();
-    // Bare outputs are never made (read once here, not once per firing).
-    let bare: Vec<bool> = (0..n as u32).map(|o| foon.is_bare(o)).collect();
-    let one = |c: &[&[u32]]| lane_pass(foon, base, c, &free, &bare, log, cancel);
+    let shared = Shared::new(foon, base);
+    let one = |scratch: &mut Scratch, c: &[&[u32]]| lane_pass(&shared, scratch, c, log, cancel);
     if workers <= 1 {
-        return chunks.iter().map(|c| one(c)).collect();
+        let mut scratch = Scratch::default();
+        return chunks.iter().map(|c| one(&mut scratch, c)).collect();
     }
     let slots: Vec<OnceLock<Result<Batch>>> = chunks.iter().map(|_| OnceLock::new()).collect();
     let next = AtomicUsize::new(0);
     let failed = AtomicBool::new(false);
     let work = || {
+        let mut scratch = Scratch::default();
         loop {
             let i = next.fetch_add(1, Ordering::Relaxed);
             if i >= chunks.len() || failed.load(Ordering::Relaxed) {
                 break;
             }
-            let r = one(chunks[i]);
+            let r = one(&mut scratch, chunks[i]);
             if r.is_err() {
                 failed.store(true, Ordering::Relaxed);
             }
@@ -319,114 +412,170 @@ fn run_batches(
     }
 }
 
-/// One batch of at most 64 kitchens: forward chaining round by round over the lanes (see the
-/// module documentation). `free`: the FUs with no needed input. With `log`, the rounds in
-/// which each object gained lanes. `bare`: per object, whether it is bare.
+/// One batch of at most 64 kitchens (see the module documentation), with counters of
+/// `shared.planes` bit planes. With `log`, the rounds in which each object gained lanes.
 fn lane_pass(
-    foon: &Foon,
-    base: &PreparedBase,
+    shared: &Shared<'_>,
+    scratch: &mut Scratch,
     kitchens: &[&[u32]],
-    free: &[u32],
-    bare: &[bool],
     log: bool,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Batch> {
-    debug_assert!(kitchens.len() <= LANES);
+    match shared.planes {
+        1 => lane_pass_with::<1>(shared, scratch, kitchens, log, cancel),
+        2 => lane_pass_with::<2>(shared, scratch, kitchens, log, cancel),
+        3 => lane_pass_with::<3>(shared, scratch, kitchens, log, cancel),
+        _ => lane_pass_with::<MAX_PLANES>(shared, scratch, kitchens, log, cancel),
+    }
+}
+
+/// [`lane_pass`] with `P` bit planes per counter. Each round runs in three sweeps, each
+/// over a list and free of the others' memory (so that their random accesses overlap): the
+/// needed slots of the objects that gained lanes count down, giving the FUs that fire; the
+/// outputs of those FUs gather the lanes they may gain; the gains are applied.
+fn lane_pass_with<const P: usize>(
+    shared: &Shared<'_>,
+    scratch: &mut Scratch,
+    kitchens: &[&[u32]],
+    log: bool,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Batch> {
+    debug_assert!(kitchens.len() <= LANES && P == shared.planes);
+    let Shared {
+        foon,
+        base,
+        ref free,
+        ref start,
+        ref wide,
+        ref bare,
+        ..
+    } = *shared;
     let n = foon.object_count();
-    let n_fu = foon.fu_count();
     let all: u64 = if kitchens.len() == LANES {
         u64::MAX
     } else {
         (1u64 << kitchens.len()) - 1
     };
+    let Scratch {
+        cnt,
+        frontier,
+        slots,
+        fired,
+        made,
+        log: log_ev,
+    } = scratch;
+    cnt.clear();
+    cnt.resize(start.len() * P, 0);
+    for (c, &l) in cnt.chunks_exact_mut(P).zip(start) {
+        for (j, w) in c.iter_mut().enumerate() {
+            *w = 0u64.wrapping_sub(u64::from(l >> j & 1));
+        }
+    }
+    frontier.clear();
+    log_ev.clear();
+    // Per object, the lanes where it is derivable so far (up to the round being run).
     let mut d = vec![0u64; n];
-    let mut frontier: Vec<u32> = Vec::new();
     for (lane, kitchen) in kitchens.iter().enumerate() {
         for &o in *kitchen {
             let w = &mut d[o as usize];
             if *w == 0 {
-                frontier.push(o);
+                frontier.push((o, 0));
             }
             *w |= 1 << lane;
         }
     }
-    // (object, round, lanes gained) in round order.
-    let mut log_ev: Vec<(u32, u32, u64)> = Vec::new();
-    if log {
-        log_ev.extend(frontier.iter().map(|&o| (o, 0, d[o as usize])));
+    frontier.sort_unstable_by_key(|e| e.0);
+    for e in frontier.iter_mut() {
+        e.1 = d[e.0 as usize];
+        if log {
+            log_ev.push((e.0, 0, e.1));
+        }
     }
-    let mut fired = vec![0u64; n_fu];
-    // The round in which an FU was last looked at, plus one (0: never).
-    let mut seen = vec![0u32; n_fu];
-    let mut gain = vec![0u64; n];
-    let mut next: Vec<u32> = Vec::new();
-    let mut cands: Vec<u32> = Vec::new();
+    let is_wide = |f: usize| !wide.is_empty() && wide[f / 64] >> (f % 64) & 1 == 1;
     let mut round: u32 = 0;
     loop {
         if cancel() {
             return Err(Error::Cancelled);
         }
-        cands.clear();
-        let stamp = round + 1;
-        if round == 0 {
-            for &f in free {
-                seen[f as usize] = stamp;
-                cands.push(f);
+        // 1. Count down: each needed slot of an object that gained lanes `g`, then the
+        // counters of those slots (lanes at zero fire, the others count down by one).
+        slots.clear();
+        for &(x, g) in frontier.iter() {
+            slots.extend(base.needed_by(x).iter().map(|&f| (f, g)));
+        }
+        let free_now: &[u32] = if round == 0 { free } else { &[] };
+        fired.clear();
+        fired.resize(slots.len() + free_now.len(), (0, 0));
+        let mut nf = 0;
+        for &f in free_now {
+            fired[nf] = (f, all);
+            nf += 1;
+        }
+        for &(f, g) in slots.iter() {
+            let fi = f as usize;
+            let z = if is_wide(fi) {
+                // Fires where every needed input is derivable and it has not fired.
+                let mut m = g & !cnt[fi * P];
+                for &x2 in base.needed(f) {
+                    m &= d[x2 as usize];
+                }
+                cnt[fi * P] |= m;
+                m
+            } else {
+                let c: &mut [u64; P] = (&mut cnt[fi * P..fi * P + P]).try_into().unwrap();
+                let mut left = 0;
+                for w in c.iter() {
+                    left |= *w;
+                }
+                let mut borrow = g & left;
+                for w in c.iter_mut() {
+                    let v = *w;
+                    *w = v ^ borrow;
+                    borrow &= !v;
+                }
+                g & !left
+            };
+            fired[nf] = (f, z);
+            nf += usize::from(z != 0);
+        }
+        fired.truncate(nf);
+        // 2. The outputs of the firing FUs, with the lanes they may gain.
+        made.clear();
+        for &(f, z) in fired.iter() {
+            made.extend(foon.outputs(f).iter().map(|&y| (y, z)));
+        }
+        // 3. In object order, the outputs that are not bare gain, at rank `round + 1`, the
+        // lanes they lack.
+        made.sort_unstable_by_key(|e| e.0);
+        frontier.clear();
+        let mut i = 0;
+        while i < made.len() {
+            let y = made[i].0;
+            let mut nb = 0;
+            while i < made.len() && made[i].0 == y {
+                nb |= made[i].1;
+                i += 1;
+            }
+            let yi = y as usize;
+            let w = &mut d[yi];
+            let g = nb & !*w;
+            if g != 0 && bare[yi / 64] >> (yi % 64) & 1 == 0 {
+                *w |= g;
+                frontier.push((y, g));
+                if log {
+                    log_ev.push((y, round + 1, g));
+                }
             }
         }
-        for &o in &frontier {
-            for &f in base.needed_by(o) {
-                let s = &mut seen[f as usize];
-                if *s != stamp {
-                    *s = stamp;
-                    cands.push(f);
-                }
-            }
-        }
-        for &f in &cands {
-            let mut m = all & !fired[f as usize];
-            for &x in base.needed(f) {
-                if m == 0 {
-                    break;
-                }
-                m &= d[x as usize];
-            }
-            if m == 0 {
-                continue;
-            }
-            fired[f as usize] |= m;
-            for &y in foon.outputs(f) {
-                if bare[y as usize] {
-                    continue;
-                }
-                let g = &mut gain[y as usize];
-                let nb = m & !d[y as usize] & !*g;
-                if nb != 0 {
-                    if *g == 0 {
-                        next.push(y);
-                    }
-                    *g |= nb;
-                }
-            }
-        }
-        if next.is_empty() {
+        if frontier.is_empty() {
             break;
         }
         round += 1;
-        for &y in &next {
-            let g = std::mem::take(&mut gain[y as usize]);
-            d[y as usize] |= g;
-            if log {
-                log_ev.push((y, round, g));
-            }
-        }
-        std::mem::swap(&mut frontier, &mut next);
-        next.clear();
     }
     let events = log.then(|| {
         // Counting sort by object; stable, so each object's rounds stay increasing.
         let mut off = vec![0u32; n + 1];
-        for &(o, _, _) in &log_ev {
+        for &(o, _, _) in log_ev.iter() {
             off[o as usize + 1] += 1;
         }
         for i in 0..n {
@@ -435,7 +584,7 @@ fn lane_pass(
         let mut at = off.clone();
         let mut rank = vec![0u32; log_ev.len()];
         let mut lanes = vec![0u64; log_ev.len()];
-        for &(o, r, m) in &log_ev {
+        for &(o, r, m) in log_ev.iter() {
             let i = at[o as usize] as usize;
             at[o as usize] += 1;
             rank[i] = r;
