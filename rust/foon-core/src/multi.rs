@@ -256,6 +256,10 @@ type Batch = (Vec<u64>, Option<Events>);
 /// always wide.
 const MAX_PLANES: usize = 4;
 
+/// FUs per block of counters sorted together (`2^BLOCK_BITS`; a block's counters, at most 32
+/// bytes per FU, fit in a core's cache).
+const BLOCK_BITS: u32 = 13;
+
 /// What every batch of one call shares, read once from the FOON and the base.
 struct Shared<'a> {
     foon: &'a Foon,
@@ -290,9 +294,10 @@ impl<'a> Shared<'a> {
                 *c += usize::from(l > 1 << p);
             }
         }
-        // The fewest planes that leave at most one FU in 16 wide.
+        // The fewest planes that leave at most one FU in 1024 wide (a wide FU costs its
+        // needed inputs at each of its slots).
         let planes = (1..=MAX_PLANES)
-            .find(|&p| over[p] * 16 <= n_fu)
+            .find(|&p| over[p] * 1024 <= n_fu)
             .unwrap_or(MAX_PLANES);
         let mut start = Vec::with_capacity(n_fu);
         let mut wide = Vec::new();
@@ -337,6 +342,9 @@ struct Scratch {
     frontier: Vec<(u32, u64)>,
     /// The needed slots of the objects that gained lanes, with the lanes gained.
     slots: Vec<(u32, u64)>,
+    /// `slots` by blocks of `2^BLOCK_BITS` FUs, and the counts of the blocks.
+    by_block: Vec<(u32, u64)>,
+    hist: Vec<u32>,
     /// The FUs firing this round, with their lanes.
     fired: Vec<(u32, u64)>,
     /// The outputs of this round's firings, with the lanes they may gain (repeats allowed).
@@ -460,6 +468,8 @@ fn lane_pass_with<const P: usize>(
         cnt,
         frontier,
         slots,
+        by_block,
+        hist,
         fired,
         made,
         log: log_ev,
@@ -491,6 +501,7 @@ fn lane_pass_with<const P: usize>(
             log_ev.push((e.0, 0, e.1));
         }
     }
+    let blocks = start.len().div_ceil(1 << BLOCK_BITS);
     let is_wide = |f: usize| !wide.is_empty() && wide[f / 64] >> (f % 64) & 1 == 1;
     let mut round: u32 = 0;
     loop {
@@ -503,6 +514,23 @@ fn lane_pass_with<const P: usize>(
         for &(x, g) in frontier.iter() {
             slots.extend(base.needed_by(x).iter().map(|&f| (f, g)));
         }
+        // By blocks of FUs (a counting sort on the high bits of the FU), so that the
+        // counters a stretch of slots touches stay in cache.
+        hist.clear();
+        hist.resize(blocks + 1, 0);
+        for &(f, _) in slots.iter() {
+            hist[(f >> BLOCK_BITS) as usize + 1] += 1;
+        }
+        for b in 0..blocks {
+            hist[b + 1] += hist[b];
+        }
+        by_block.clear();
+        by_block.resize(slots.len(), (0, 0));
+        for &(f, g) in slots.iter() {
+            let at = &mut hist[(f >> BLOCK_BITS) as usize];
+            by_block[*at as usize] = (f, g);
+            *at += 1;
+        }
         let free_now: &[u32] = if round == 0 { free } else { &[] };
         fired.clear();
         fired.resize(slots.len() + free_now.len(), (0, 0));
@@ -511,7 +539,7 @@ fn lane_pass_with<const P: usize>(
             fired[nf] = (f, all);
             nf += 1;
         }
-        for &(f, g) in slots.iter() {
+        for &(f, g) in by_block.iter() {
             let fi = f as usize;
             let z = if is_wide(fi) {
                 // Fires where every needed input is derivable and it has not fired.
