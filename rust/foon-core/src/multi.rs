@@ -674,6 +674,96 @@ mod tests {
         }
     }
 
+    /// A FOON of `units` units over `objects` objects (`x` in state `s<i>`, and bare tools
+    /// `t<i>`), the number of inputs of unit `u` given by `inputs(u, random)`, inputs and outputs at
+    /// random (so cycles and self-loops), from `seed`.
+    fn random_foon(
+        units: usize,
+        objects: u64,
+        seed: u64,
+        mut inputs: impl FnMut(usize, u64) -> u64,
+    ) -> Foon {
+        let mut s = seed | 1;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let obj = |o: u64| {
+            if o % 9 == 8 {
+                format!("O\tt{o}\n")
+            } else {
+                format!("O\tx\nS\ts{o}\n")
+            }
+        };
+        let mut text = String::new();
+        for u in 0..units {
+            let l = inputs(u, next());
+            let mut ins: Vec<u64> = (0..l).map(|_| next() % objects).collect();
+            ins.sort_unstable();
+            ins.dedup();
+            for &o in &ins {
+                text.push_str(&obj(o));
+            }
+            text.push_str("M\tm\n");
+            for _ in 0..1 + next() % 2 {
+                text.push_str(&obj(next() % objects));
+            }
+            text.push_str("//\n");
+        }
+        foon(&text)
+    }
+
+    /// Random kitchens of `f`: `count` of them, each object in with probability `in8 / 8`.
+    fn random_kitchens(f: &Foon, count: usize, seed: u64, in8: u64) -> Vec<Vec<u32>> {
+        let mut s = seed | 1;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        (0..count)
+            .map(|_| {
+                (0..f.object_count() as u32)
+                    .filter(|_| next() % 8 < in8)
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn counters_of_every_width_and_wide_units() {
+        // (units, inputs per unit, the planes and whether some unit is wide).
+        type Inputs = fn(usize, u64) -> u64;
+        let cases: [(usize, Inputs, usize, bool); 6] = [
+            (300, |_, r| 1 + r % 2, 1, false),
+            (300, |_, r| 1 + r % 4, 2, false),
+            (300, |_, r| 1 + r % 8, 3, false),
+            (300, |_, r| 1 + r % 16, 4, false),
+            // One unit in 2,000 with 20 inputs: counted FUs keep one plane.
+            (2000, |u, r| if u == 700 { 20 } else { 1 + r % 2 }, 1, true),
+            // Many units with up to 30 inputs: the widest counters, and wide units.
+            (200, |_, r| 1 + r % 30, MAX_PLANES, true),
+        ];
+        for (i, (units, inputs, planes, wide)) in cases.into_iter().enumerate() {
+            for seed in [3u64, 11] {
+                // Few objects for many inputs, so that units overlap and fire.
+                let objects = if planes > 2 { 60 } else { 400 };
+                let f = random_foon(units, objects, seed * 31 + i as u64, inputs);
+                let base = PreparedBase::new(&f, &[], None, None).unwrap();
+                let sh = Shared::new(&f, &base);
+                assert_eq!(sh.planes, planes, "case {i}");
+                assert_eq!(!sh.wide.is_empty(), wide, "case {i}");
+                // Sparse kitchens, and dense ones where wide units fire in later rounds.
+                for in8 in [2, 7] {
+                    check(&f, &random_kitchens(&f, 65, seed, in8), Some(1));
+                }
+            }
+        }
+    }
+
     #[test]
     fn bad_ids_and_another_foon_are_errors() {
         let f = foon("O\tx\nS\ta\nM\tm\nO\tx\nS\tb\n//\n");
