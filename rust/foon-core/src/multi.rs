@@ -717,7 +717,7 @@ mod tests {
                 text.push_str(&obj(o));
             }
             text.push_str("M\tm\n");
-            for _ in 0..1 + next() % 2 {
+            for _ in 0..=(next() % 2) {
                 text.push_str(&obj(next() % objects));
             }
             text.push_str("//\n");
