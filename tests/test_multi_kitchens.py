@@ -109,3 +109,28 @@ def test_bad_arguments() -> None:
         f.derivable_many([k], [{"label": "tea"}])
     with pytest.raises(foon.GoalNotFoundError, match="object id 99"):
         f.derivable_many([k], [99])
+
+
+@pytest.mark.parametrize("most", [2, 8, 30])
+def test_units_with_many_inputs(most: int) -> None:
+    """Units with 1 to `most` inputs over few objects (cycles, self-loops, bare tools), so
+    that the core's per-unit counters take one to four bit planes and the widest units are
+    decided apart; sparse and dense kitchens, 65 of each."""
+    rnd = random.Random(most)
+
+    def obj(o: int) -> str:
+        return f"O\ttool{o}\n" if o % 9 == 8 else f"O\tx\nS\ts{o}\n"
+
+    parts = []
+    for u in range(400):
+        k = 20 if u == 7 else rnd.randint(1, most)
+        ins = sorted({rnd.randrange(60) for _ in range(k)})
+        outs = [rnd.randrange(60) for _ in range(rnd.randint(1, 2))]
+        parts.append("".join(map(obj, ins)) + "M\tm\n" + "".join(map(obj, outs)) + "//\n")
+    text = "".join(parts)
+    rf = ref.parse(text)
+    f = foon.Foon.from_text(text)
+    n = len(rf.objects)
+    for density in (0.25, 0.875):
+        kitchens = [{o for o in range(n) if rnd.random() < density} for _ in range(65)]
+        check(rf, f, kitchens, set())

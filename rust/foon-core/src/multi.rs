@@ -6,18 +6,28 @@
 //! object is derivable when it is in the kitchen, or some producer has every needed input
 //! derivable; outputs that are bare (no state, no ingredient, no container) are never made;
 //! rank 0 for a kitchen object, else the fewest rounds of parallel steps that make it. The
-//! pass runs level by level (round `r` fires, in each lane, the FUs whose needed inputs are
-//! all derivable at rank at most `r` in that lane and that have not fired there yet), so the
-//! round in which a lane of an object is first set is its rank in that kitchen: the result is
-//! exact, for derivability and for ranks, and does not depend on the order of the work.
+//! pass runs level by level, as the one-kitchen forward chaining does, in every lane at once:
+//! each FU keeps, per lane, the number of its needed slots still missing, in bit-sliced
+//! counters (bit `j` of that number for the 64 lanes in one word, as many words as the
+//! largest count needs). When an object gains lanes in round `r`, every FU that needs it
+//! counts down by one in those lanes; an FU fires in the lanes whose count reaches zero (its
+//! last needed input arrived in round `r`, the largest rank among its inputs), and its
+//! outputs that lack those lanes gain them in round `r + 1`. So the round in which a lane of
+//! an object is first set is its rank in that kitchen: the result is exact, for derivability
+//! and for ranks, and does not depend on the order of the work within a round. The rare FU
+//! with more needed inputs than the counters hold ("wide") is decided instead by the AND of
+//! its inputs' words each time one of them gains lanes.
 //!
-//! Cost of one batch: each round looks only at the FUs that need an object that gained a lane
-//! in the round before, and evaluates each such FU once per round (a bitwise AND over its
-//! needed inputs), so the work is at most that of one forward chaining per distinct round in
-//! which an object gains lanes, and in practice a small multiple of one forward chaining,
-//! for 64 kitchens. Memory per batch: 8 bytes per object (the derivable lanes) and per FU
-//! (the lanes where it fired) while it runs; the result keeps 8 bytes per object per batch
-//! of 64 kitchens, and, for ranks, 16 bytes per (object, round in which it gained lanes).
+//! Cost of one batch: each (object, round in which it gains lanes) counts down once at each
+//! FU that needs it, a few word operations on that FU's counters, so the work is that of one
+//! forward chaining times the number of distinct ranks an object has across the 64 kitchens
+//! (1.5 on the synthetic 1M FOON with kitchens differing by random drops). A round runs as
+//! sweeps over lists: the needed slots of the objects that gained lanes, sorted by blocks of
+//! FUs so that the counters they touch are near in memory; the firing FUs' outputs; the
+//! gains, applied in object order. Memory per batch: 8 bytes per object (the derivable lanes)
+//! and 8 bytes per FU per counter plane while it runs, the lists, and buffers kept from batch
+//! to batch by each worker; the result keeps 8 bytes per object per batch of 64 kitchens,
+//! and, for ranks, 16 bytes per (object, round in which it gained lanes).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -252,6 +262,107 @@ pub fn prepare_many(
 
 type Batch = (Vec<u64>, Option<Events>);
 
+/// Bit planes of a counter at most: an FU with more than `2^MAX_PLANES` needed inputs is
+/// always wide.
+const MAX_PLANES: usize = 4;
+
+/// FUs per block of counters sorted together (`2^BLOCK_BITS`; a block's counters, at most 32
+/// bytes per FU, fit in a core's cache).
+const BLOCK_BITS: u32 = 13;
+
+/// What every batch of one call shares, read once from the FOON and the base.
+struct Shared<'a> {
+    foon: &'a Foon,
+    base: &'a PreparedBase,
+    /// The FUs with no needed input (they fire in every lane in the first round).
+    free: Vec<u32>,
+    /// Bit planes per counter (1 to [`MAX_PLANES`]): an FU with at most `2^planes` needed
+    /// inputs is counted, one with more is wide.
+    planes: usize,
+    /// Per FU, the initial counter: its number of needed inputs minus one (0 when it has
+    /// none or is wide).
+    start: Vec<u8>,
+    /// Per FU, one bit: whether it is wide (empty when none is).
+    wide: Vec<u64>,
+    /// Per object, one bit: whether it is bare (never made).
+    bare: Vec<u64>,
+}
+
+impl<'a> Shared<'a> {
+    fn new(foon: &'a Foon, base: &'a PreparedBase) -> Self {
+        let n = foon.object_count();
+        let n_fu = foon.fu_count();
+        let mut free = Vec::new();
+        // How many FUs need more than 2^p inputs, for each p.
+        let mut over = [0usize; MAX_PLANES + 1];
+        for f in 0..n_fu as u32 {
+            let l = base.needed(f).len();
+            if l == 0 {
+                free.push(f);
+            }
+            for (p, c) in over.iter_mut().enumerate() {
+                *c += usize::from(l > 1 << p);
+            }
+        }
+        // The fewest planes that leave at most one FU in 1024 wide (a wide FU costs its
+        // needed inputs at each of its slots).
+        let planes = (1..=MAX_PLANES)
+            .find(|&p| over[p] * 1024 <= n_fu)
+            .unwrap_or(MAX_PLANES);
+        let mut start = Vec::with_capacity(n_fu);
+        let mut wide = Vec::new();
+        for f in 0..n_fu as u32 {
+            let l = base.needed(f).len();
+            if l > 1 << planes {
+                if wide.is_empty() {
+                    wide = vec![0u64; n_fu.div_ceil(64)];
+                }
+                wide[f as usize / 64] |= 1 << (f % 64);
+                start.push(0);
+            } else {
+                start.push(l.saturating_sub(1) as u8);
+            }
+        }
+        let mut bare = vec![0u64; n.div_ceil(64)];
+        for o in 0..n as u32 {
+            if foon.is_bare(o) {
+                bare[o as usize / 64] |= 1 << (o % 64);
+            }
+        }
+        Self {
+            foon,
+            base,
+            free,
+            planes,
+            start,
+            wide,
+            bare,
+        }
+    }
+}
+
+/// One worker's buffers, reused from batch to batch.
+#[derive(Default)]
+struct Scratch {
+    /// Per FU, `planes` words: bit `k` of word `j` is bit `j` of the number of its needed
+    /// slots still missing in lane `k`, minus one (until it fires there). A wide FU keeps
+    /// in word 0 the lanes where it fired.
+    cnt: Vec<u64>,
+    /// The objects that gained lanes in the round before, with the lanes gained.
+    frontier: Vec<(u32, u64)>,
+    /// The needed slots of the objects that gained lanes, with the lanes gained.
+    slots: Vec<(u32, u64)>,
+    /// `slots` by blocks of `2^BLOCK_BITS` FUs, and the counts of the blocks.
+    by_block: Vec<(u32, u64)>,
+    hist: Vec<u32>,
+    /// The FUs firing this round, with their lanes.
+    fired: Vec<(u32, u64)>,
+    /// The outputs of this round's firings, with the lanes they may gain (repeats allowed).
+    made: Vec<(u32, u64)>,
+    /// (object, round, lanes gained), in round order.
+    log: Vec<(u32, u32, u64)>,
+}
+
 /// Runs every batch of 64 kitchens, on the pool when there are several and more than one
 /// worker; results in batch order (the first error in batch order wins).
 fn run_batches(
@@ -272,28 +383,28 @@ fn run_batches(
     }
     let chunks: Vec<&[&[u32]]> = kitchens.chunks(LANES).collect();
     let workers = opts.workers(chunks.len())?;
+    if chunks.is_empty() {
+        return Ok(Vec::new());
+    }
     let never = || false;
     let cancel: &(dyn Fn() -> bool + Sync) = opts.cancel.unwrap_or(&never);
-    // The FUs with no needed input fire in every lane in the first round.
-    let free: Vec<u32> = (0..foon.fu_count() as u32)
-        .filter(|&f| base.needed(f).is_empty())
-        .collect();
-    // Bare outputs are never made (read once here, not once per firing).
-    let bare: Vec<bool> = (0..n as u32).map(|o| foon.is_bare(o)).collect();
-    let one = |c: &[&[u32]]| lane_pass(foon, base, c, &free, &bare, log, cancel);
+    let shared = Shared::new(foon, base);
+    let one = |scratch: &mut Scratch, c: &[&[u32]]| lane_pass(&shared, scratch, c, log, cancel);
     if workers <= 1 {
-        return chunks.iter().map(|c| one(c)).collect();
+        let mut scratch = Scratch::default();
+        return chunks.iter().map(|c| one(&mut scratch, c)).collect();
     }
     let slots: Vec<OnceLock<Result<Batch>>> = chunks.iter().map(|_| OnceLock::new()).collect();
     let next = AtomicUsize::new(0);
     let failed = AtomicBool::new(false);
     let work = || {
+        let mut scratch = Scratch::default();
         loop {
             let i = next.fetch_add(1, Ordering::Relaxed);
             if i >= chunks.len() || failed.load(Ordering::Relaxed) {
                 break;
             }
-            let r = one(chunks[i]);
+            let r = one(&mut scratch, chunks[i]);
             if r.is_err() {
                 failed.store(true, Ordering::Relaxed);
             }
@@ -319,114 +430,190 @@ fn run_batches(
     }
 }
 
-/// One batch of at most 64 kitchens: forward chaining round by round over the lanes (see the
-/// module documentation). `free`: the FUs with no needed input. With `log`, the rounds in
-/// which each object gained lanes. `bare`: per object, whether it is bare.
+/// One batch of at most 64 kitchens (see the module documentation), with counters of
+/// `shared.planes` bit planes. With `log`, the rounds in which each object gained lanes.
 fn lane_pass(
-    foon: &Foon,
-    base: &PreparedBase,
+    shared: &Shared<'_>,
+    scratch: &mut Scratch,
     kitchens: &[&[u32]],
-    free: &[u32],
-    bare: &[bool],
     log: bool,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Batch> {
-    debug_assert!(kitchens.len() <= LANES);
+    match shared.planes {
+        1 => lane_pass_with::<1>(shared, scratch, kitchens, log, cancel),
+        2 => lane_pass_with::<2>(shared, scratch, kitchens, log, cancel),
+        3 => lane_pass_with::<3>(shared, scratch, kitchens, log, cancel),
+        _ => lane_pass_with::<MAX_PLANES>(shared, scratch, kitchens, log, cancel),
+    }
+}
+
+/// [`lane_pass`] with `P` bit planes per counter. Each round runs in three sweeps, each
+/// over a list and free of the others' memory (so that their random accesses overlap): the
+/// needed slots of the objects that gained lanes count down, giving the FUs that fire; the
+/// outputs of those FUs gather the lanes they may gain; the gains are applied.
+fn lane_pass_with<const P: usize>(
+    shared: &Shared<'_>,
+    scratch: &mut Scratch,
+    kitchens: &[&[u32]],
+    log: bool,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Batch> {
+    debug_assert!(kitchens.len() <= LANES && P == shared.planes);
+    let Shared {
+        foon,
+        base,
+        ref free,
+        ref start,
+        ref wide,
+        ref bare,
+        ..
+    } = *shared;
     let n = foon.object_count();
-    let n_fu = foon.fu_count();
     let all: u64 = if kitchens.len() == LANES {
         u64::MAX
     } else {
         (1u64 << kitchens.len()) - 1
     };
+    let Scratch {
+        cnt,
+        frontier,
+        slots,
+        by_block,
+        hist,
+        fired,
+        made,
+        log: log_ev,
+    } = scratch;
+    cnt.clear();
+    cnt.resize(start.len() * P, 0);
+    for (c, &l) in cnt.chunks_exact_mut(P).zip(start) {
+        for (j, w) in c.iter_mut().enumerate() {
+            *w = 0u64.wrapping_sub(u64::from(l >> j & 1));
+        }
+    }
+    frontier.clear();
+    log_ev.clear();
+    // Per object, the lanes where it is derivable so far (up to the round being run).
     let mut d = vec![0u64; n];
-    let mut frontier: Vec<u32> = Vec::new();
     for (lane, kitchen) in kitchens.iter().enumerate() {
         for &o in *kitchen {
             let w = &mut d[o as usize];
             if *w == 0 {
-                frontier.push(o);
+                frontier.push((o, 0));
             }
             *w |= 1 << lane;
         }
     }
-    // (object, round, lanes gained) in round order.
-    let mut log_ev: Vec<(u32, u32, u64)> = Vec::new();
-    if log {
-        log_ev.extend(frontier.iter().map(|&o| (o, 0, d[o as usize])));
+    frontier.sort_unstable_by_key(|e| e.0);
+    for e in frontier.iter_mut() {
+        e.1 = d[e.0 as usize];
+        if log {
+            log_ev.push((e.0, 0, e.1));
+        }
     }
-    let mut fired = vec![0u64; n_fu];
-    // The round in which an FU was last looked at, plus one (0: never).
-    let mut seen = vec![0u32; n_fu];
-    let mut gain = vec![0u64; n];
-    let mut next: Vec<u32> = Vec::new();
-    let mut cands: Vec<u32> = Vec::new();
+    let blocks = start.len().div_ceil(1 << BLOCK_BITS);
+    let is_wide = |f: usize| !wide.is_empty() && wide[f / 64] >> (f % 64) & 1 == 1;
     let mut round: u32 = 0;
     loop {
         if cancel() {
             return Err(Error::Cancelled);
         }
-        cands.clear();
-        let stamp = round + 1;
-        if round == 0 {
-            for &f in free {
-                seen[f as usize] = stamp;
-                cands.push(f);
+        // 1. Count down: each needed slot of an object that gained lanes `g`, then the
+        // counters of those slots (lanes at zero fire, the others count down by one).
+        slots.clear();
+        for &(x, g) in frontier.iter() {
+            slots.extend(base.needed_by(x).iter().map(|&f| (f, g)));
+        }
+        // By blocks of FUs (a counting sort on the high bits of the FU), so that the
+        // counters a stretch of slots touches stay in cache.
+        hist.clear();
+        hist.resize(blocks + 1, 0);
+        for &(f, _) in slots.iter() {
+            hist[(f >> BLOCK_BITS) as usize + 1] += 1;
+        }
+        for b in 0..blocks {
+            hist[b + 1] += hist[b];
+        }
+        by_block.clear();
+        by_block.resize(slots.len(), (0, 0));
+        for &(f, g) in slots.iter() {
+            let at = &mut hist[(f >> BLOCK_BITS) as usize];
+            by_block[*at as usize] = (f, g);
+            *at += 1;
+        }
+        let free_now: &[u32] = if round == 0 { free } else { &[] };
+        fired.clear();
+        fired.resize(slots.len() + free_now.len(), (0, 0));
+        let mut nf = 0;
+        for &f in free_now {
+            fired[nf] = (f, all);
+            nf += 1;
+        }
+        for &(f, g) in by_block.iter() {
+            let fi = f as usize;
+            let z = if is_wide(fi) {
+                // Fires where every needed input is derivable and it has not fired.
+                let mut m = g & !cnt[fi * P];
+                for &x2 in base.needed(f) {
+                    m &= d[x2 as usize];
+                }
+                cnt[fi * P] |= m;
+                m
+            } else {
+                let c: &mut [u64; P] = (&mut cnt[fi * P..fi * P + P]).try_into().unwrap();
+                let mut left = 0;
+                for w in c.iter() {
+                    left |= *w;
+                }
+                let mut borrow = g & left;
+                for w in c.iter_mut() {
+                    let v = *w;
+                    *w = v ^ borrow;
+                    borrow &= !v;
+                }
+                g & !left
+            };
+            fired[nf] = (f, z);
+            nf += usize::from(z != 0);
+        }
+        fired.truncate(nf);
+        // 2. The outputs of the firing FUs, with the lanes they may gain.
+        made.clear();
+        for &(f, z) in fired.iter() {
+            made.extend(foon.outputs(f).iter().map(|&y| (y, z)));
+        }
+        // 3. In object order, the outputs that are not bare gain, at rank `round + 1`, the
+        // lanes they lack.
+        made.sort_unstable_by_key(|e| e.0);
+        frontier.clear();
+        let mut i = 0;
+        while i < made.len() {
+            let y = made[i].0;
+            let mut nb = 0;
+            while i < made.len() && made[i].0 == y {
+                nb |= made[i].1;
+                i += 1;
+            }
+            let yi = y as usize;
+            let w = &mut d[yi];
+            let g = nb & !*w;
+            if g != 0 && bare[yi / 64] >> (yi % 64) & 1 == 0 {
+                *w |= g;
+                frontier.push((y, g));
+                if log {
+                    log_ev.push((y, round + 1, g));
+                }
             }
         }
-        for &o in &frontier {
-            for &f in base.needed_by(o) {
-                let s = &mut seen[f as usize];
-                if *s != stamp {
-                    *s = stamp;
-                    cands.push(f);
-                }
-            }
-        }
-        for &f in &cands {
-            let mut m = all & !fired[f as usize];
-            for &x in base.needed(f) {
-                if m == 0 {
-                    break;
-                }
-                m &= d[x as usize];
-            }
-            if m == 0 {
-                continue;
-            }
-            fired[f as usize] |= m;
-            for &y in foon.outputs(f) {
-                if bare[y as usize] {
-                    continue;
-                }
-                let g = &mut gain[y as usize];
-                let nb = m & !d[y as usize] & !*g;
-                if nb != 0 {
-                    if *g == 0 {
-                        next.push(y);
-                    }
-                    *g |= nb;
-                }
-            }
-        }
-        if next.is_empty() {
+        if frontier.is_empty() {
             break;
         }
         round += 1;
-        for &y in &next {
-            let g = std::mem::take(&mut gain[y as usize]);
-            d[y as usize] |= g;
-            if log {
-                log_ev.push((y, round, g));
-            }
-        }
-        std::mem::swap(&mut frontier, &mut next);
-        next.clear();
     }
     let events = log.then(|| {
         // Counting sort by object; stable, so each object's rounds stay increasing.
         let mut off = vec![0u32; n + 1];
-        for &(o, _, _) in &log_ev {
+        for &(o, _, _) in log_ev.iter() {
             off[o as usize + 1] += 1;
         }
         for i in 0..n {
@@ -435,7 +622,7 @@ fn lane_pass(
         let mut at = off.clone();
         let mut rank = vec![0u32; log_ev.len()];
         let mut lanes = vec![0u64; log_ev.len()];
-        for &(o, r, m) in &log_ev {
+        for &(o, r, m) in log_ev.iter() {
             let i = at[o as usize] as usize;
             at[o as usize] += 1;
             rank[i] = r;
@@ -493,6 +680,96 @@ mod tests {
                 .collect();
             for threads in [Some(1), Some(2)] {
                 check(&f, &kitchens, threads);
+            }
+        }
+    }
+
+    /// A FOON of `units` units over `objects` objects (`x` in state `s<i>`, and bare tools
+    /// `t<i>`), the number of inputs of unit `u` given by `inputs(u, random)`, inputs and outputs at
+    /// random (so cycles and self-loops), from `seed`.
+    fn random_foon(
+        units: usize,
+        objects: u64,
+        seed: u64,
+        mut inputs: impl FnMut(usize, u64) -> u64,
+    ) -> Foon {
+        let mut s = seed | 1;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let obj = |o: u64| {
+            if o % 9 == 8 {
+                format!("O\tt{o}\n")
+            } else {
+                format!("O\tx\nS\ts{o}\n")
+            }
+        };
+        let mut text = String::new();
+        for u in 0..units {
+            let l = inputs(u, next());
+            let mut ins: Vec<u64> = (0..l).map(|_| next() % objects).collect();
+            ins.sort_unstable();
+            ins.dedup();
+            for &o in &ins {
+                text.push_str(&obj(o));
+            }
+            text.push_str("M\tm\n");
+            for _ in 0..=(next() % 2) {
+                text.push_str(&obj(next() % objects));
+            }
+            text.push_str("//\n");
+        }
+        foon(&text)
+    }
+
+    /// Random kitchens of `f`: `count` of them, each object in with probability `in8 / 8`.
+    fn random_kitchens(f: &Foon, count: usize, seed: u64, in8: u64) -> Vec<Vec<u32>> {
+        let mut s = seed | 1;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        (0..count)
+            .map(|_| {
+                (0..f.object_count() as u32)
+                    .filter(|_| next() % 8 < in8)
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn counters_of_every_width_and_wide_units() {
+        // (units, inputs per unit, the planes and whether some unit is wide).
+        type Inputs = fn(usize, u64) -> u64;
+        let cases: [(usize, Inputs, usize, bool); 6] = [
+            (300, |_, r| 1 + r % 2, 1, false),
+            (300, |_, r| 1 + r % 4, 2, false),
+            (300, |_, r| 1 + r % 8, 3, false),
+            (300, |_, r| 1 + r % 16, 4, false),
+            // One unit in 2,000 with 20 inputs: counted FUs keep one plane.
+            (2000, |u, r| if u == 700 { 20 } else { 1 + r % 2 }, 1, true),
+            // Many units with up to 30 inputs: the widest counters, and wide units.
+            (200, |_, r| 1 + r % 30, MAX_PLANES, true),
+        ];
+        for (i, (units, inputs, planes, wide)) in cases.into_iter().enumerate() {
+            for seed in [3u64, 11] {
+                // Few objects for many inputs, so that units overlap and fire.
+                let objects = if planes > 2 { 60 } else { 400 };
+                let f = random_foon(units, objects, seed * 31 + i as u64, inputs);
+                let base = PreparedBase::new(&f, &[], None, None).unwrap();
+                let sh = Shared::new(&f, &base);
+                assert_eq!(sh.planes, planes, "case {i}");
+                assert_eq!(!sh.wide.is_empty(), wide, "case {i}");
+                // Sparse kitchens, and dense ones where wide units fire in later rounds.
+                for in8 in [2, 7] {
+                    check(&f, &random_kitchens(&f, 65, seed, in8), Some(1));
+                }
             }
         }
     }
