@@ -8,6 +8,7 @@ import random
 
 import foon
 import foon_reference as ref
+from foon import _foon
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -109,6 +110,33 @@ def test_bad_arguments() -> None:
         f.derivable_many([k], [{"label": "tea"}])
     with pytest.raises(foon.GoalNotFoundError, match="object id 99"):
         f.derivable_many([k], [99])
+
+
+def test_matched_kitchens(course: Course) -> None:
+    """Kitchens matched once (what the benchmark times apart from the preparation) give the
+    same answers in every mode, and only for the FOON and level they were matched to."""
+    f = course.foon
+    rnd = random.Random(5)
+    items = list(course.rkitchen)
+    kitchens = [foon.Kitchen(o for o in items if rnd.random() < 0.8) for _ in range(70)]
+    natives = [k._native for k in kitchens]
+    goals = [f.goal_id(g) for g in course.rgoals]
+    uts = list(course.rutensils)
+    want = f.ranks_many(kitchens, goals, utensils=course.rutensils)
+    for level in (1, 2, 3):
+        m = _foon.match_kitchens(f._native, natives, level)
+        assert len(m) == 70 and m.level == level
+        plain = _foon.derivable_many(f._native, natives, goals, uts, level, True, 1, "lanes")
+        for mode in ("lanes", "separate", "shared"):
+            assert _foon.derivable_many(f._native, m, goals, uts, level, True, 1, mode) == plain
+        if level == 3:
+            assert plain == want
+    m = _foon.match_kitchens(f._native, natives, 3)
+    with pytest.raises(ValueError, match="another FOON or at another level"):
+        _foon.derivable_many(f._native, m, goals, uts, 2, True, 1, "lanes")
+    other = foon.Foon.from_text("O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n")
+    with pytest.raises(ValueError, match="another FOON or at another level"):
+        _foon.derivable_many(other._native, m, [0], [], 3, True, 1, "lanes")
 
 
 @pytest.mark.parametrize("most", [2, 8, 30])

@@ -457,11 +457,20 @@ def plan_split(
 ) -> dict[str, Any]: ...
 
 # Many kitchens at once.
-__all__ += ["derivable_many"]
+__all__ += ["MatchedKitchens", "derivable_many", "match_kitchens"]
 
+@final
+class MatchedKitchens:
+    """Kitchens matched to one FOON's objects at one level (opaque)."""
+
+    def __len__(self) -> int: ...
+    @property
+    def level(self) -> int: ...
+
+def match_kitchens(foon: Foon, kitchens: list[Kitchen], level: int = 3) -> MatchedKitchens: ...
 def derivable_many(
     foon: Foon,
-    kitchens: list[Kitchen],
+    kitchens: list[Kitchen] | MatchedKitchens,
     goals: list[int],
     utensils: list[str],
     level: int = 3,

@@ -67,7 +67,7 @@ mod _foon {
     };
 
     #[pymodule_export]
-    use super::multi::derivable_many;
+    use super::multi::{PyMatchedKitchens, derivable_many, match_kitchens};
 
     #[pymodule_export]
     use super::incremental::planner_with_changes;

@@ -1,5 +1,7 @@
 //! `foon._foon.derivable_many`: derivability (or ranks) of goals in many kitchens at once,
-//! from the core's 64-kitchen pass (`foon_core::multi`).
+//! from the core's 64-kitchen pass (`foon_core::multi`); `foon._foon.match_kitchens`: the
+//! kitchens matched to a FOON's objects once, so that what is timed or repeated after it is
+//! the preparation alone.
 
 use foon_core::PreparedBase;
 use foon_core::multi;
@@ -16,13 +18,60 @@ use crate::kitchen::PyKitchen;
 /// `mode`: `"lanes"` (the 64-kitchen pass), or, to compare with it, `"separate"` (each
 /// kitchen prepared from scratch, `Prepared::with_objects`, and its ranks computed) or
 /// `"shared"` (one base, each kitchen prepared on it, `Prepared::with_base`, and its ranks).
+/// Kitchens matched to one FOON's objects at one level (opaque; for `derivable_many`).
+#[pyclass(frozen, module = "foon._foon", name = "MatchedKitchens")]
+pub(crate) struct PyMatchedKitchens {
+    /// The FOON's content fingerprint, the level and each kitchen's object ids.
+    foon: [u8; 16],
+    level: u8,
+    ids: Vec<Vec<u32>>,
+}
+
+#[pymethods]
+impl PyMatchedKitchens {
+    fn __len__(&self) -> usize {
+        self.ids.len()
+    }
+
+    #[getter]
+    fn level(&self) -> u8 {
+        self.level
+    }
+}
+
+/// Matches each kitchen to `foon`'s objects at `level` (in the core, off the GIL).
+#[pyfunction]
+#[pyo3(signature = (foon, kitchens, level = 3))]
+pub(crate) fn match_kitchens(
+    py: Python<'_>,
+    foon: &PyFoon,
+    kitchens: Vec<PyRef<'_, PyKitchen>>,
+    level: u8,
+) -> PyResult<PyMatchedKitchens> {
+    let f = &*foon.inner;
+    let ks: Vec<_> = kitchens
+        .iter()
+        .map(|k| std::sync::Arc::clone(&k.inner))
+        .collect();
+    let ids = enter(py, |_| {
+        ks.iter()
+            .map(|k| k.match_at_level(f, level))
+            .collect::<foon_core::Result<Vec<Vec<u32>>>>()
+    })?;
+    Ok(PyMatchedKitchens {
+        foon: f.fingerprint(),
+        level,
+        ids,
+    })
+}
+
 #[pyfunction]
 #[pyo3(signature = (foon, kitchens, goals, utensils, level = 3, ranks = false, threads = None, mode = "lanes"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn derivable_many(
     py: Python<'_>,
     foon: &PyFoon,
-    kitchens: Vec<PyRef<'_, PyKitchen>>,
+    kitchens: &Bound<'_, PyAny>,
     goals: Vec<u32>,
     utensils: &Bound<'_, PyAny>,
     level: u8,
@@ -41,16 +90,35 @@ pub(crate) fn derivable_many(
     for &g in &goals {
         check_object(f, g)?;
     }
-    let ks: Vec<_> = kitchens
-        .iter()
-        .map(|k| std::sync::Arc::clone(&k.inner))
-        .collect();
+    // Kitchens, or kitchens already matched (to this FOON, at this level).
+    let matched = kitchens.cast::<PyMatchedKitchens>().ok().map(Bound::get);
+    let ks: Vec<_> = match matched {
+        Some(m) => {
+            if m.foon != f.fingerprint() || m.level != level {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "the kitchens were matched to another FOON or at another level",
+                ));
+            }
+            Vec::new()
+        }
+        None => kitchens
+            .extract::<Vec<PyRef<'_, PyKitchen>>>()?
+            .iter()
+            .map(|k| std::sync::Arc::clone(&k.inner))
+            .collect(),
+    };
     let goals_ref = &goals;
     let out = enter(py, |cancel| {
-        let ids = ks
-            .iter()
-            .map(|k| k.match_at_level(f, level))
-            .collect::<foon_core::Result<Vec<Vec<u32>>>>()?;
+        let owned;
+        let ids = if let Some(m) = matched {
+            &m.ids
+        } else {
+            owned = ks
+                .iter()
+                .map(|k| k.match_at_level(f, level))
+                .collect::<foon_core::Result<Vec<Vec<u32>>>>()?;
+            &owned
+        };
         let refs: Vec<&[u32]> = ids.iter().map(Vec::as_slice).collect();
         if mode != "lanes" {
             let base = std::sync::Arc::new(PreparedBase::new(f, &utensils, None, None)?);
