@@ -389,46 +389,11 @@ impl Kitchen {
         k.finish()
     }
 
-    /// The object ids of `foon` whose identity is an item's, sorted, each once. Each string
-    /// of the kitchen is looked up once in the FOON's string table; an item with a string the
-    /// FOON lacks is skipped without a look-up.
+    /// The object ids of `foon` whose identity is an item's, sorted, each once (level 3 of
+    /// [`Kitchen::match_many`]).
     pub fn match_in(&self, foon: &Foon) -> Vec<u32> {
-        let table = foon.strings();
-        let map: Vec<u32> = (0..self.strings.len() as u32)
-            .map(|id| table.get(self.strings.text(id)).unwrap_or(NONE))
-            .collect();
-        let mut ids = Vec::new();
-        let (mut st, mut ing, mut key) = (Vec::new(), Vec::new(), Vec::new());
-        'items: for i in 0..self.len() {
-            let label = map[self.label[i] as usize];
-            let container = match self.container[i] {
-                NONE => NONE,
-                c => map[c as usize],
-            };
-            if label == NONE || (container == NONE && self.container[i] != NONE) {
-                continue;
-            }
-            let (s, g) = self.ids(i);
-            st.clear();
-            ing.clear();
-            for (src, dst) in [(s, &mut st), (g, &mut ing)] {
-                for &x in src {
-                    let m = map[x as usize];
-                    if m == NONE {
-                        continue 'items;
-                    }
-                    dst.push(m);
-                }
-            }
-            let ns = canonical_into(&st, &ing, &mut key);
-            let (a, b) = key.split_at(ns);
-            if let Some(o) = foon.find_sorted(label, a, b, container) {
-                ids.push(o);
-            }
-        }
-        ids.sort_unstable();
-        ids.dedup();
-        ids
+        let mut out = Self::match_level3(&[self], foon);
+        out.pop().unwrap_or_default()
     }
 
     /// The object ids of `foon` equal to an item at identity `level` (3: [`Kitchen::match_in`];
@@ -436,54 +401,163 @@ impl Kitchen {
     /// once. An item with a label or container the FOON lacks matches nothing; at level 2, one
     /// with a state the FOON lacks matches nothing either.
     pub fn match_at_level(&self, foon: &Foon, level: u8) -> Result<Vec<u32>> {
-        use crate::merge::{level_key, object_level_key};
+        let mut out = Self::match_many(&[self], foon, level)?;
+        Ok(out.pop().unwrap_or_default())
+    }
+
+    /// [`Kitchen::match_at_level`] of each kitchen, in order: the one place kitchens are
+    /// matched to a FOON. Each distinct string of the kitchens is looked up once in the FOON's
+    /// string table, and at level 3 each distinct item once in its object table (kitchens of
+    /// one household share most of their items, and a look-up in a large FOON is a few cache
+    /// misses, while the kitchens' own memo stays in cache); at levels 1 and 2 the FOON's
+    /// objects are scanned once for all the kitchens.
+    pub fn match_many(kitchens: &[&Kitchen], foon: &Foon, level: u8) -> Result<Vec<Vec<u32>>> {
         match level {
-            3 => return Ok(self.match_in(foon)),
-            1 | 2 => {}
-            _ => {
-                return Err(crate::Error::Invalid(format!(
-                    "level must be 1, 2 or 3 (got {level})"
-                )));
-            }
+            3 => Ok(Self::match_level3(kitchens, foon)),
+            1 | 2 => Ok(Self::match_coarse(kitchens, foon, level)),
+            _ => Err(crate::Error::Invalid(format!(
+                "level must be 1, 2 or 3 (got {level})"
+            ))),
         }
+    }
+
+    /// Each kitchen's string ids mapped to `foon`'s ([`NONE`]: not in the FOON), each distinct
+    /// text looked up once.
+    fn string_maps<'k>(kitchens: &[&'k Kitchen], foon: &Foon) -> Vec<Vec<u32>> {
         let table = foon.strings();
-        let map = |id: u32| table.get(self.strings.text(id)).unwrap_or(NONE);
-        let mut keys: rustc_hash::FxHashSet<(u32, u32, Vec<u32>)> =
-            rustc_hash::FxHashSet::default();
-        'items: for i in 0..self.len() {
-            let label = map(self.label[i]);
-            let container = match self.container[i] {
-                NONE => NONE,
-                c => map(c),
-            };
-            if label == NONE || (container == NONE && self.container[i] != NONE && level == 2) {
-                continue;
-            }
-            let mut states = Vec::new();
-            if level == 2 {
-                for &x in self.ids(i).0 {
-                    let m = map(x);
-                    if m == NONE {
-                        continue 'items;
-                    }
-                    states.push(m);
-                }
-                states.sort_unstable();
-            }
-            let (l, c, s) = level_key(level, label, container, &states);
-            keys.insert((l, c, s.to_vec()));
-        }
-        let mut probe = (0, 0, Vec::new());
-        Ok((0..foon.object_count() as u32)
-            .filter(|&o| {
-                let (l, c, s) = object_level_key(foon, level, o);
-                probe.0 = l;
-                probe.1 = c;
-                probe.2.clear();
-                probe.2.extend_from_slice(s);
-                keys.contains(&probe)
+        let mut memo: rustc_hash::FxHashMap<&'k str, u32> = rustc_hash::FxHashMap::default();
+        kitchens
+            .iter()
+            .map(|k| {
+                (0..k.strings.len() as u32)
+                    .map(|id| {
+                        let text = k.strings.text(id);
+                        if kitchens.len() == 1 {
+                            return table.get(text).unwrap_or(NONE);
+                        }
+                        *memo
+                            .entry(text)
+                            .or_insert_with(|| table.get(text).unwrap_or(NONE))
+                    })
+                    .collect()
             })
-            .collect())
+            .collect()
+    }
+
+    /// Level 3: full identity. An item with a string the FOON lacks is skipped without a
+    /// look-up.
+    fn match_level3(kitchens: &[&Kitchen], foon: &Foon) -> Vec<Vec<u32>> {
+        let maps = Self::string_maps(kitchens, foon);
+        // Distinct items of all the kitchens (as FOON string ids: label, container, the
+        // number of states, then states and ingredients sorted) -> object id or NONE.
+        let mut memo: rustc_hash::FxHashMap<Box<[u32]>, u32> = rustc_hash::FxHashMap::default();
+        let shared = kitchens.len() > 1;
+        let (mut st, mut ing, mut key) = (Vec::new(), Vec::new(), Vec::new());
+        let mut full: Vec<u32> = Vec::new();
+        kitchens
+            .iter()
+            .zip(&maps)
+            .map(|(k, map)| {
+                let mut ids = Vec::new();
+                'items: for i in 0..k.len() {
+                    let label = map[k.label[i] as usize];
+                    let container = match k.container[i] {
+                        NONE => NONE,
+                        c => map[c as usize],
+                    };
+                    if label == NONE || (container == NONE && k.container[i] != NONE) {
+                        continue;
+                    }
+                    let (s, g) = k.ids(i);
+                    st.clear();
+                    ing.clear();
+                    for (src, dst) in [(s, &mut st), (g, &mut ing)] {
+                        for &x in src {
+                            let m = map[x as usize];
+                            if m == NONE {
+                                continue 'items;
+                            }
+                            dst.push(m);
+                        }
+                    }
+                    let ns = canonical_into(&st, &ing, &mut key);
+                    let (a, b) = key.split_at(ns);
+                    let found = if shared {
+                        full.clear();
+                        full.extend_from_slice(&[label, container, ns as u32]);
+                        full.extend_from_slice(&key);
+                        if let Some(&o) = memo.get(full.as_slice()) {
+                            o
+                        } else {
+                            let o = foon.find_sorted(label, a, b, container).unwrap_or(NONE);
+                            memo.insert(full.as_slice().into(), o);
+                            o
+                        }
+                    } else {
+                        foon.find_sorted(label, a, b, container).unwrap_or(NONE)
+                    };
+                    if found != NONE {
+                        ids.push(found);
+                    }
+                }
+                ids.sort_unstable();
+                ids.dedup();
+                ids
+            })
+            .collect()
+    }
+
+    /// Levels 1 and 2: the kitchens' level keys, then one scan of the FOON's objects.
+    fn match_coarse(kitchens: &[&Kitchen], foon: &Foon, level: u8) -> Vec<Vec<u32>> {
+        use crate::merge::{level_key, object_level_key};
+        let maps = Self::string_maps(kitchens, foon);
+        // Level key -> the kitchens that hold it (sorted, each once).
+        let mut keys: rustc_hash::FxHashMap<(u32, u32, Vec<u32>), Vec<u32>> =
+            rustc_hash::FxHashMap::default();
+        for (ki, (k, map)) in kitchens.iter().zip(&maps).enumerate() {
+            let map = |id: u32| map[id as usize];
+            'items: for i in 0..k.len() {
+                let label = map(k.label[i]);
+                let container = match k.container[i] {
+                    NONE => NONE,
+                    c => map(c),
+                };
+                if label == NONE || (container == NONE && k.container[i] != NONE && level == 2) {
+                    continue;
+                }
+                let mut states = Vec::new();
+                if level == 2 {
+                    for &x in k.ids(i).0 {
+                        let m = map(x);
+                        if m == NONE {
+                            continue 'items;
+                        }
+                        states.push(m);
+                    }
+                    states.sort_unstable();
+                }
+                let (l, c, s) = level_key(level, label, container, &states);
+                let holders = keys.entry((l, c, s.to_vec())).or_default();
+                if holders.last() != Some(&(ki as u32)) {
+                    holders.push(ki as u32);
+                }
+            }
+        }
+        let mut out = vec![Vec::new(); kitchens.len()];
+        let mut probe = (0, 0, Vec::new());
+        for o in 0..foon.object_count() as u32 {
+            let (l, c, s) = object_level_key(foon, level, o);
+            probe.0 = l;
+            probe.1 = c;
+            probe.2.clear();
+            probe.2.extend_from_slice(s);
+            if let Some(holders) = keys.get(&probe) {
+                for &ki in holders {
+                    out[ki as usize].push(o);
+                }
+            }
+        }
+        out
     }
 
     /// A fixed-width fingerprint of the set of identities: the same on every platform and
@@ -936,6 +1010,53 @@ mod tests {
             Kitchen::load(&dir.join("kitchen.json")).unwrap().len(),
             1174
         );
+        // Many kitchens matched at once (the memo of shared items and strings) against each
+        // kitchen's items looked up one by one (level 3) or by their level keys as text.
+        let lists: Vec<Vec<ObjectSpec>> = files
+            .iter()
+            .map(|f| load_objects(f, InputKind::Kitchen).unwrap())
+            .collect();
+        let kitchens: Vec<Kitchen> = files.iter().map(|f| Kitchen::load(f).unwrap()).collect();
+        let refs: Vec<&Kitchen> = kitchens.iter().chain(&kitchens).collect();
+        let key = |level: u8, label: &str, container: Option<&str>, states: &[String]| {
+            let mut st: Vec<String> = states.to_vec();
+            st.sort_unstable();
+            match level {
+                1 => (label.to_owned(), None, Vec::new()),
+                _ => (label.to_owned(), container.map(str::to_owned), st),
+            }
+        };
+        for level in [1u8, 2, 3] {
+            let many = Kitchen::match_many(&refs, &foon, level).unwrap();
+            assert_eq!(many.len(), 2 * files.len());
+            for (i, list) in lists.iter().chain(&lists).enumerate() {
+                let want: Vec<u32> = if level == 3 {
+                    let mut ids: Vec<u32> = list.iter().filter_map(|s| s.find_in(&foon)).collect();
+                    ids.sort_unstable();
+                    ids.dedup();
+                    ids
+                } else {
+                    let keys: std::collections::HashSet<_> = list
+                        .iter()
+                        .map(|s| key(level, &s.label, s.container.as_deref(), &s.states))
+                        .collect();
+                    (0..foon.object_count() as u32)
+                        .filter(|&o| {
+                            let sp = ObjectSpec::of_object(&foon, o);
+                            keys.contains(&key(
+                                level,
+                                &sp.label,
+                                sp.container.as_deref(),
+                                &sp.states,
+                            ))
+                        })
+                        .collect()
+                };
+                assert_eq!(many[i], want, "level {level}, kitchen {i}");
+                assert_eq!(refs[i].match_at_level(&foon, level).unwrap(), want);
+            }
+        }
+        assert!(Kitchen::match_many(&refs, &foon, 4).is_err());
     }
 
     fn specs() -> impl Strategy<Value = Vec<ObjectSpec>> {

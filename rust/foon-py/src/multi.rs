@@ -54,9 +54,8 @@ pub(crate) fn match_kitchens(
         .map(|k| std::sync::Arc::clone(&k.inner))
         .collect();
     let ids = enter(py, |_| {
-        ks.iter()
-            .map(|k| k.match_at_level(f, level))
-            .collect::<foon_core::Result<Vec<Vec<u32>>>>()
+        let refs: Vec<&foon_core::Kitchen> = ks.iter().map(|k| &**k).collect();
+        foon_core::Kitchen::match_many(&refs, f, level)
     })?;
     Ok(PyMatchedKitchens {
         foon: f.fingerprint(),
@@ -113,10 +112,8 @@ pub(crate) fn derivable_many(
         let ids = if let Some(m) = matched {
             &m.ids
         } else {
-            owned = ks
-                .iter()
-                .map(|k| k.match_at_level(f, level))
-                .collect::<foon_core::Result<Vec<Vec<u32>>>>()?;
+            let refs: Vec<&foon_core::Kitchen> = ks.iter().map(|k| &**k).collect();
+            owned = foon_core::Kitchen::match_many(&refs, f, level)?;
             &owned
         };
         let refs: Vec<&[u32]> = ids.iter().map(Vec::as_slice).collect();
