@@ -94,14 +94,17 @@ def plan_table(
     motions: MotionsLike = None,
     utensils: UtensilsLike = None,
     default_rate: float | None = None,
+    deltas: str = "incremental",
 ) -> pa.Table:
     """Answers every query row (columns :data:`QUERY_COLUMNS`) over ``foon`` with the
     kitchens of ``kitchens``: one result row per query, in query order, in the schema
     :data:`RESULT_SCHEMA`. A row that cannot be planned (unknown kitchen or method, bad
     goal or options) is a result row with its failure code. ``threads`` as for
     :meth:`foon.Planner.plan_many`; ``motions``, ``utensils`` and ``default_rate`` as for
-    :meth:`foon.Foon.plan` (a row's ``default_rate`` option replaces it). The interpreter
-    is released while the core plans."""
+    :meth:`foon.Foon.plan` (a row's ``default_rate`` option replaces it). ``deltas`` is how
+    the kitchens given as a base plus a delta are prepared: ``"incremental"`` (from the
+    base kitchen's preparation, the default) or ``"from-scratch"`` (from their own items);
+    the answers are the same either way. The interpreter is released while the core plans."""
     if not isinstance(foon, Foon):
         raise TypeError(f"foon must be a Foon, not {_type(foon)}")
     if not isinstance(kitchens, KitchenSet):
@@ -126,6 +129,7 @@ def plan_table(
         _as_utensils(utensils),
         None if rates is None else list(rates.items()),
         default_rate,
+        deltas,
     )
     n = raw[0]
     b = pa.py_buffer

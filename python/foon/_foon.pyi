@@ -507,6 +507,7 @@ def plan_queries(
     utensils: list[str] | None = None,
     rates: list[tuple[str, float]] | None = None,
     default_rate: float | None = None,
+    deltas: str | None = None,
 ) -> tuple[Any, ...]: ...
 def failure_codes() -> list[str]: ...
 

@@ -6,7 +6,7 @@
 use std::sync::{Arc, OnceLock};
 
 use foon_core::cache::{CacheLimits, PreparedCache};
-use foon_core::queries::{self, Answer, KitchenSet, QueryRow, RunOptions};
+use foon_core::queries::{self, Answer, DeltaPreparation, KitchenSet, QueryRow, RunOptions};
 use foon_core::search::batch::BatchOptions;
 use foon_core::{Kitchen, MotionRates};
 use pyo3::exceptions::PyKeyError;
@@ -295,12 +295,13 @@ impl Columns {
 }
 
 /// Answers query rows (columns of equal length; `None` for a null field) over `foon` with
-/// the kitchens of `kitchens`, on `threads` threads. Returns the answers as buffers:
+/// the kitchens of `kitchens`, on `threads` threads; `deltas` is how delta kitchens are
+/// prepared (`"incremental"`, the default, or `"from-scratch"`). Returns the answers as buffers:
 /// (rows, solved bitmap, then (validity, values) for `fu_count`, height, success, cost,
 /// `leaf_count`; (offsets, values) for units; (validity, offsets, data) for failure; (list
 /// offsets, string offsets, data) for missing; (validity, offsets, data) for message).
 #[pyfunction]
-#[pyo3(signature = (foon, kitchens, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None))]
+#[pyo3(signature = (foon, kitchens, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan_queries<'py>(
     py: Python<'py>,
@@ -314,6 +315,7 @@ pub(crate) fn plan_queries<'py>(
     utensils: Option<&Bound<'py, PyAny>>,
     rates: Option<&Bound<'py, PyAny>>,
     default_rate: Option<&Bound<'py, PyAny>>,
+    deltas: Option<&str>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let n = kitchen_ids.len();
     if goals.len() != n || methods.len() != n || options.as_ref().is_some_and(|o| o.len() != n) {
@@ -322,6 +324,15 @@ pub(crate) fn plan_queries<'py>(
         ));
     }
     let threads = threads_arg(threads)?;
+    let deltas = match deltas {
+        None | Some("incremental") => DeltaPreparation::Incremental,
+        Some("from-scratch") => DeltaPreparation::FromScratch,
+        Some(other) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "deltas must be 'incremental' or 'from-scratch', not '{other}'"
+            )));
+        }
+    };
     let utensils = match utensils.filter(|u| !u.is_none()) {
         Some(u) => str_list_field("utensils", u)?,
         None => Vec::new(),
@@ -357,6 +368,7 @@ pub(crate) fn plan_queries<'py>(
             utensils: &utensils,
             rates: rates.as_ref(),
             default_rate,
+            deltas,
         };
         let answers = queries::run_queries(f, set, &rows, cache(), &opts)?;
         Columns::of(&answers)

@@ -360,6 +360,8 @@ pub struct RunOptions<'a> {
     pub rates: Option<&'a MotionRates>,
     /// The default rate of rows whose options give none.
     pub default_rate: Option<f64>,
+    /// How kitchens given as a base plus a delta are prepared (see [`prepare_kitchen`]).
+    pub deltas: DeltaPreparation,
 }
 
 /// The group of a row: its kitchen's position, its level and its default rate's bits.
@@ -424,16 +426,47 @@ fn check_row(
     Ok(((kitchen, options.level, rate), checked))
 }
 
+/// How a batch prepares the kitchens given as a base plus a delta ([`Entry::delta`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum DeltaPreparation {
+    /// From the preparation of the base kitchen (prepared once, through the cache, like any
+    /// kitchen), by [`Prepared::with_kitchen`]: what the base has computed (ranks, the
+    /// choice of `ids`, each optimal objective's costs and choices) is updated, touching
+    /// only what the delta changes. The default.
+    #[default]
+    Incremental,
+    /// From the delta kitchen's own items, as a kitchen given by its items (in the 64-lane
+    /// pass of [`prepare_many`]).
+    FromScratch,
+}
+
+/// What the base of delta kitchens should compute before the delta kitchens are derived
+/// from it: called with the base's preparation and the positions in the wave of the delta
+/// kitchens about to be derived from it (see [`prepare_kitchen`]).
+pub type Warm<'a> = &'a (dyn Fn(&Prepared, &[usize]) -> Result<()> + Sync);
+
 /// Prepares the kitchens of one wave: `(base, entry, level)` each, in order. The one place
-/// kitchens of a batch are prepared: through `cache` (keyed by the FOON's, the base's and
-/// the kitchen's fingerprints and the level), the kitchens the cache lacks in one 64-lane
-/// pass per base ([`prepare_many`]). A delta kitchen is prepared here from its own items;
-/// an incremental preparation from its base's would be swapped in here.
+/// kitchens of a batch are prepared, each through `cache` (keyed by the FOON's, the base's
+/// and the kitchen's fingerprints and the level):
+///
+/// - the kitchens given by their items (and, with [`DeltaPreparation::FromScratch`], the
+///   delta kitchens) that the cache lacks, in one 64-lane pass per base ([`prepare_many`]);
+/// - with [`DeltaPreparation::Incremental`], each delta kitchen the cache lacks from the
+///   preparation of its base kitchen: the base kitchen is prepared once, through the cache
+///   under its own key (so the deltas of one base, in this wave and the next, share it),
+///   `warm` computes on it what the deltas' rows will use, then each delta kitchen is
+///   matched at its level (from its own items: at levels 1 and 2 an item removed can leave
+///   its objects in the kitchen through another item of the same key, so the objects are
+///   never derived from the delta's items alone) and prepared from the base's preparation
+///   by [`Prepared::with_kitchen`], on up to the batch's workers at once. Every result is
+///   that of a preparation from scratch.
 pub fn prepare_kitchen(
     foon: &Foon,
     cache: &PreparedCache,
     wave: &[(Arc<PreparedBase>, &Entry, u8)],
     opts: &BatchOptions<'_>,
+    deltas: DeltaPreparation,
+    warm: Option<Warm<'_>>,
 ) -> Result<Vec<Arc<Prepared>>> {
     let keys: Vec<CacheKey> = wave
         .iter()
@@ -447,11 +480,19 @@ pub fn prepare_kitchen(
         })
         .collect::<Result<_>>()?;
     let mut out: Vec<Option<Arc<Prepared>>> = keys.iter().map(|k| cache.get(k)).collect();
-    // The misses, by base.
+    // The misses: by base for the 64-lane pass, by (base, base kitchen, level) for deltas.
     let mut by_base: FxHashMap<u128, Vec<usize>> = FxHashMap::default();
+    let mut by_delta_base: FxHashMap<(u128, u128, u8), Vec<usize>> = FxHashMap::default();
     for (i, w) in wave.iter().enumerate() {
-        if out[i].is_none() {
-            by_base.entry(w.0.key()).or_default().push(i);
+        if out[i].is_some() {
+            continue;
+        }
+        match w.1.delta() {
+            Some(d) if deltas == DeltaPreparation::Incremental => {
+                let key = (w.0.key(), d.base.fingerprint(), w.2);
+                by_delta_base.entry(key).or_default().push(i);
+            }
+            _ => by_base.entry(w.0.key()).or_default().push(i),
         }
     }
     let mut bases: Vec<_> = by_base.into_iter().collect();
@@ -466,6 +507,52 @@ pub fn prepare_kitchen(
         for (&i, p) in idx.iter().zip(prepared) {
             let p = p.at_level(wave[i].2);
             out[i] = Some(cache.get_or_prepare(keys[i], || Ok(p))?);
+        }
+    }
+    let mut delta_bases: Vec<_> = by_delta_base.into_values().collect();
+    delta_bases.sort_unstable_by_key(|v| v[0]);
+    let never = || false;
+    let cancel: &(dyn Fn() -> bool + Sync) = opts.cancel.unwrap_or(&never);
+    for idx in delta_bases {
+        let (base, entry, level) = &wave[idx[0]];
+        let Some(d) = entry.delta() else { continue };
+        let from = cache.kitchen(foon, base, &d.base, *level)?;
+        if let Some(warm) = warm {
+            warm(&from, &idx)?;
+        }
+        let slots: Vec<OnceLock<Result<Arc<Prepared>>>> =
+            idx.iter().map(|_| OnceLock::new()).collect();
+        let workers = opts.workers(idx.len())?;
+        let positions: Vec<usize> = (0..idx.len()).collect();
+        plan_rows(&positions, workers, cancel, &|j| {
+            let i = idx[j];
+            let r = (|| {
+                let ids = wave[i].1.kitchen()?.match_at_level(foon, wave[i].2)?;
+                let p = from.with_kitchen(foon, &ids)?;
+                cache.get_or_prepare(keys[i], || Ok(p))
+            })();
+            let ok = r.is_ok();
+            let _ = slots[j].set(r);
+            ok
+        })?;
+        // The first error, if any, else every kitchen (a slot left empty: cancelled).
+        let mut done = Vec::with_capacity(idx.len());
+        let mut failed = None;
+        for slot in slots {
+            match slot.into_inner() {
+                Some(Ok(p)) => done.push(Some(p)),
+                Some(Err(e)) => {
+                    failed.get_or_insert(e);
+                    done.push(None);
+                }
+                None => done.push(None),
+            }
+        }
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        for (&i, p) in idx.iter().zip(done) {
+            out[i] = Some(p.ok_or(Error::Cancelled)?);
         }
     }
     out.into_iter()
@@ -533,22 +620,45 @@ pub fn run_queries(
         start = end;
         // The bases of the wave (one per default rate), then its kitchens.
         let mut wave = Vec::new();
+        // The group of each kitchen of the wave.
+        let mut wave_group = Vec::new();
         let mut bad: Vec<Option<Answer>> = Vec::new();
-        for &(k, level, rate) in &groups[wave_lo..wave_hi] {
+        for (g, &(k, level, rate)) in (wave_lo..).zip(&groups[wave_lo..wave_hi]) {
             let base = cache.base(foon, opts.utensils, opts.rates, rate.map(f64::from_bits));
             match base {
                 Ok(b) => {
                     wave.push((b, set.entry(k), level));
+                    wave_group.push(g);
                     bad.push(None);
                 }
                 Err(e) => bad.push(Some(Answer::of_error(&e))),
             }
         }
-        let prepared = match prepare_kitchen(foon, cache, &wave, &opts.batch) {
-            Ok(p) => p.into_iter().map(Ok).collect::<Vec<_>>(),
-            Err(Error::Cancelled) => return Err(Error::Cancelled),
-            Err(e) => wave.iter().map(|_| Err(e.to_string())).collect(),
+        // The rows of each group of the wave.
+        let mut ranges = Vec::with_capacity(wave_hi - wave_lo);
+        let mut lo = 0;
+        for g in wave_lo..wave_hi {
+            let hi = lo + rows_here[lo..].partition_point(|(_, c)| c.group <= g);
+            ranges.push(lo..hi);
+            lo = hi;
+        }
+        let warm = |from: &Prepared, positions: &[usize]| {
+            warm_base(
+                foon,
+                from,
+                positions
+                    .iter()
+                    .flat_map(|&p| &rows_here[ranges[wave_group[p] - wave_lo].clone()])
+                    .map(|(_, c)| c),
+                cancel,
+            )
         };
+        let prepared =
+            match prepare_kitchen(foon, cache, &wave, &opts.batch, opts.deltas, Some(&warm)) {
+                Ok(p) => p.into_iter().map(Ok).collect::<Vec<_>>(),
+                Err(Error::Cancelled) => return Err(Error::Cancelled),
+                Err(e) => wave.iter().map(|_| Err(e.to_string())).collect(),
+            };
         // Per group of the wave: its prepared kitchen, or the answer of its rows.
         let mut preps: Vec<std::result::Result<&Arc<Prepared>, Answer>> = Vec::new();
         let mut next_prep = prepared.iter();
@@ -659,6 +769,55 @@ fn plan_rows(
     }
     Ok(())
 }
+
+/// Tries on a base kitchen's preparation `from` a few rows of the delta kitchens about to be
+/// derived from it (`rows`), so that it computes what they will use (its ranks, and what
+/// planning their queries computes once per kitchen: the choice of `ids`, the optimal
+/// objectives, the shopping costs of explanations), which every delta kitchen then updates
+/// rather than computes. Up to [`WARM_TRIES`] rows per query, until one is solved; their
+/// answers are dropped (only a cancel is an error).
+fn warm_base<'c>(
+    foon: &Foon,
+    from: &Prepared,
+    rows: impl Iterator<Item = &'c Checked>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<()> {
+    let ctx = Context::with(foon, from)?.with_cancel(cancel);
+    let _ = ctx.ranks();
+    let mut tries: FxHashMap<Query, usize> = FxHashMap::default();
+    for c in rows {
+        // `optimal-shared` reads the optima of `optimal-units` and `optimal-success`.
+        let query = match c.query.method {
+            Method::OptimalShared => Query {
+                method: Method::OptimalUnits,
+                ..c.query
+            },
+            _ => c.query,
+        };
+        let n = tries.entry(query).or_insert(0);
+        if *n >= WARM_TRIES {
+            continue;
+        }
+        *n += 1;
+        let goal = match c
+            .goal_id
+            .map_or_else(|| c.goal.resolve(&ctx, c.options.level), Ok)
+        {
+            Ok(g) => g,
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(_) => continue,
+        };
+        match ctx.plan(goal, query) {
+            Ok(p) if p.solved => *n = WARM_TRIES,
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Rows per query tried on the base of delta kitchens, at most ([`warm_base`]).
+const WARM_TRIES: usize = 4;
 
 /// Plans one checked row on its prepared kitchen.
 fn answer(
