@@ -42,11 +42,17 @@ RESULT_SCHEMA: pa.Schema = pa.schema(
 FAILURE_CODES: tuple[str, ...] = tuple(_foon.failure_codes())
 
 
+#: A string column as the core reads it: the array's offset, its validity bitmap (``None``
+#: when no value is null), its offsets, its data, and whether the offsets are 64-bit.
+_Strings = tuple[int, bytes | None, bytes, bytes, bool]
+
+
 def _text_column(
     queries: pa.Table | pa.RecordBatch, name: str, required: bool = True
-) -> list[str | None] | None:
-    """A string column as a list (``None`` for nulls); ``ValueError`` naming it when it is
-    absent (and required) or not strings."""
+) -> _Strings | None:
+    """A string column as Arrow buffers (:data:`_Strings`); ``None`` when it is absent or
+    all null and not required; ``ValueError`` naming it when it is absent (and required) or
+    not strings."""
     if name not in queries.column_names:
         if not required:
             return None
@@ -56,14 +62,23 @@ def _text_column(
     col = queries.column(name)
     t = col.type
     if pa.types.is_null(t) and not required:
-        return [None] * len(col)
+        return None
     if pa.types.is_dictionary(t) and (
         pa.types.is_string(t.value_type) or pa.types.is_large_string(t.value_type)
     ):
         col = col.cast(pa.string())
     elif not (pa.types.is_string(t) or pa.types.is_large_string(t)):
         raise ValueError(f"query column '{name}' must be strings, not {t}")
-    return col.to_pylist()  # type: ignore[no-any-return]
+    if isinstance(col, pa.ChunkedArray):
+        col = col.combine_chunks()
+    valid, offsets, data = col.buffers()
+    return (
+        col.offset,
+        None if valid is None or col.null_count == 0 else valid.to_pybytes(),
+        b"" if offsets is None else offsets.to_pybytes(),
+        b"" if data is None else data.to_pybytes(),
+        pa.types.is_large_string(col.type),
+    )
 
 
 def _query_ids(queries: pa.Table | pa.RecordBatch) -> pa.Array | pa.ChunkedArray:
@@ -118,9 +133,10 @@ def plan_table(
     options = _text_column(queries, "options", required=False)
     assert kitchen_ids is not None and goals is not None and methods is not None
     rates = _as_rates(motions)
-    raw = _foon.plan_queries(
+    raw = _foon.plan_query_columns(
         foon._native,
         kitchens._native,
+        queries.num_rows,
         kitchen_ids,
         goals,
         methods,
