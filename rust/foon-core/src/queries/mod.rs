@@ -3,13 +3,17 @@
 //! - A [`KitchenSet`] names the kitchens; a [`QueryRow`] names a kitchen, a goal (a JSON
 //!   object or a label, resolved by the rules of `foon plan --goal/--label`), a method (any
 //!   name of [`Method`]) and options (a JSON object, see [`RowOptions`]).
-//! - [`run_queries`] checks every row first: a row it cannot plan (unknown kitchen or method,
-//!   bad options or goal) becomes an [`Answer`] with its [`Failure`], never an error of the
-//!   batch. The other rows are grouped by (kitchen, level, default rate); the groups are
-//!   prepared a wave at a time ([`wave_size`], at most 64) by [`prepare_kitchen`] (through the [`PreparedCache`], the
-//!   kitchens the cache lacks in one 64-lane pass of [`prepare_many`]), then their rows are
+//! - [`run_queries`] checks every row first (each distinct goal and options text read once):
+//!   a row it cannot plan (unknown kitchen or method, bad options or goal) becomes an
+//!   [`Answer`] with its [`Failure`], never an error of the batch. The other rows are grouped
+//!   by (kitchen, level, default rate); the groups are prepared a wave at a time
+//!   ([`wave_size`], at most 64) by [`prepare_wave`] (through the [`PreparedCache`]: the
+//!   kitchens the cache lacks in one 64-lane pass of [`prepare_many`], a kitchen given as a
+//!   base plus a delta from its base kitchen's preparation, [`DeltaPreparation`]), then
 //!   planned on the crate's batch thread pool (the policy of [`crate::search::batch`]:
-//!   threads, `FOON_THREADS`, cancel). Only one wave's prepared kitchens are held at a time.
+//!   threads, `FOON_THREADS`, cancel): a worker takes a group, derives its delta kitchen and
+//!   plans its first row of each query, then every other row of the wave runs on every
+//!   worker. Only one wave's prepared kitchens are held at a time.
 //! - Answers are in row order and identical for every thread count (a `time_limit` aside).
 //!   The only errors of the batch are a cancelled batch and a bad thread count.
 //!
