@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyTuple};
 
 use crate::convert::{path_arg, rate_arg, rate_pairs_arg, str_list_field, threads_arg};
-use crate::errors::{PyFoonErr, enter, enter_here};
+use crate::errors::{PyFoonErr, enter};
 use crate::foon::PyFoon;
 use crate::kitchen::PyKitchen;
 
@@ -503,7 +503,7 @@ fn answer_rows<'py>(
         foon_core::check_rate(None, r).map_err(PyFoonErr)?;
     }
     let batch = BatchOptions::threads(threads);
-    let workers = batch.workers(n).map_err(PyFoonErr)?;
+    batch.workers(n).map_err(PyFoonErr)?;
     let (f, set) = (&*foon.inner, &*kitchens.inner);
     let run = |cancel: crate::errors::Cancel<'_>| {
         let opts = RunOptions {
@@ -516,11 +516,9 @@ fn answer_rows<'py>(
         let answers = queries::run_queries(f, set, rows, cache(), &opts)?;
         Columns::of(&answers)
     };
-    let c = if workers <= 1 {
-        enter_here(py, run)?
-    } else {
-        enter(py, run)?
-    };
+    // Even on one thread the work runs on a thread of its own (`run_queries` keeps to one),
+    // which this one waits on while it looks at the signals.
+    let c = enter(py, run)?;
     let b = |v: &[u8]| PyBytes::new(py, v).into_any();
     let items: Vec<Bound<'py, PyAny>> = vec![
         n.into_pyobject(py)?.into_any(),

@@ -658,7 +658,9 @@ pub fn prepare_kitchen(
 }
 
 /// Answers every row of `rows` over `foon` with the kitchens of `set` (see the module
-/// documentation). Errors only when cancelled or given a bad thread count.
+/// documentation). Errors only when cancelled or given a bad thread count. On one thread
+/// (`threads` 1, or one row) every step keeps to one thread, what a prepared kitchen
+/// computes once included.
 pub fn run_queries(
     foon: &Foon,
     set: &KitchenSet,
@@ -667,6 +669,23 @@ pub fn run_queries(
     opts: &RunOptions<'_>,
 ) -> Result<Vec<Answer>> {
     let workers = opts.batch.workers(rows.len())?;
+    if workers <= 1 {
+        return crate::search::batch::on_one_thread(|| {
+            answer_rows(foon, set, rows, cache, opts, 1)
+        })?;
+    }
+    answer_rows(foon, set, rows, cache, opts, workers)
+}
+
+/// [`run_queries`] on `workers` workers.
+fn answer_rows(
+    foon: &Foon,
+    set: &KitchenSet,
+    rows: &[QueryRow<'_>],
+    cache: &PreparedCache,
+    opts: &RunOptions<'_>,
+    workers: usize,
+) -> Result<Vec<Answer>> {
     let never = || false;
     let cancel: &(dyn Fn() -> bool + Sync) = opts.batch.cancel.unwrap_or(&never);
     let mut answers: Vec<Option<Answer>> = Vec::with_capacity(rows.len());
