@@ -144,9 +144,7 @@ def test_course_delta_kitchens(course: dict[str, Any]) -> None:
     for i, g in enumerate(course["goals"]):
         for j, m in enumerate(foon.METHODS):
             rows.append((f"{i}-{m}", f"d{(i + j) % 5}", g, m, levels[(i + 2 * j) % 3]))
-    want = check(
-        course["foon"], ks, rows, motions=course["motions"], utensils=course["utensils"]
-    )
+    want = check(course["foon"], ks, rows, motions=course["motions"], utensils=course["utensils"])
     codes = {w["failure"] for w in want}
     assert None in codes and "not-derivable" in codes
 

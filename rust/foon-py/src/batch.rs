@@ -314,7 +314,7 @@ fn arrow_strings<'a>(
 ) -> PyResult<Vec<Option<&'a str>>> {
     let (offset, valid, offsets, data, large) = col;
     let (valid, offsets, data) = (
-        valid.as_ref().map(|v| v.as_bytes()),
+        valid.as_ref().map(pyo3::types::PyBytesMethods::as_bytes),
         offsets.as_bytes(),
         data.as_bytes(),
     );

@@ -382,6 +382,9 @@ struct Checked {
     options: RowOptions,
 }
 
+/// A text read: its value, or the answer of the rows that give it.
+type Read<T> = std::result::Result<T, Box<Answer>>;
+
 /// What a batch reads once per distinct text: its goals (parsed, and at level 3 resolved)
 /// and its options (per method, which they are checked against).
 #[derive(Default)]
@@ -390,7 +393,7 @@ struct Memo<'a> {
     goals: Vec<std::result::Result<GoalText, Box<Answer>>>,
     /// Per goal, its object at level 3, once asked for.
     resolved: Vec<Option<std::result::Result<u32, Box<Answer>>>>,
-    options: FxHashMap<(Option<&'a str>, Method), std::result::Result<RowOptions, Box<Answer>>>,
+    options: FxHashMap<(Option<&'a str>, Method), Read<RowOptions>>,
 }
 
 impl<'a> Memo<'a> {
@@ -704,8 +707,10 @@ fn answer_rows(
                     if memo.resolved[g].is_none() {
                         let r = memo
                             .goal_text(g)
-                            .map(|t| t.resolve_by_identity(foon))
-                            .unwrap_or_else(|| Err(Error::Invalid("a goal was not read".into())))
+                            .map_or_else(
+                                || Err(Error::Invalid("a goal was not read".into())),
+                                |t| t.resolve_by_identity(foon),
+                            )
                             .map_err(|e| Box::new(Answer::of_error(&e)));
                         memo.resolved[g] = Some(r);
                     }
@@ -818,6 +823,7 @@ fn answer_rows(
         // takes the group), or the answer of its rows.
         let preps: Vec<OnceLock<std::result::Result<Arc<Prepared>, Answer>>> =
             pending.iter().map(|_| OnceLock::new()).collect();
+        #[allow(clippy::result_large_err)] // the answer is cloned for each of the group's rows
         let prep_of = |j: usize| -> Result<&std::result::Result<Arc<Prepared>, Answer>> {
             if let Some(p) = preps[j].get() {
                 return Ok(p);
@@ -986,9 +992,8 @@ fn warm_base<'c>(
     if sound {
         let unmade = (0..foon.object_count() as u32).find(|&o| ranks.rank(o).is_none());
         if let Some(o) = unmade {
-            match ctx.plan(o, Query::default()) {
-                Err(Error::Cancelled) => return Err(Error::Cancelled),
-                _ => {}
+            if let Err(Error::Cancelled) = ctx.plan(o, Query::default()) {
+                return Err(Error::Cancelled);
             }
         }
     }
