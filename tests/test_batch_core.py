@@ -42,18 +42,20 @@ def check(
     utensils: list[str] | None = None,
     default_rate: float | None = None,
 ) -> list[dict[str, Any]]:
-    """plan_table with 1 and 2 threads equals the reference row by row (the message aside,
-    which is there exactly for the codes that keep one)."""
+    """plan_table with 1 and 2 threads, delta kitchens prepared incrementally and from
+    scratch, equals the reference row by row (the message aside, which is there exactly for
+    the codes that keep one)."""
     kitchens = {i: ks[i] for i in ks.ids}
     want = bref.answer(
         f, kitchens, rows, motions=motions, utensils=utensils or [], default_rate=default_rate
     )
     q = table(rows)
     one = None
-    for threads in (1, 2):
+    for threads, deltas in ((1, "incremental"), (2, "incremental"), (2, "from-scratch"),
+                            (1, "from-scratch")):  # fmt: skip
         got = plan_table(
             f, ks, q, threads=threads, motions=motions, utensils=utensils,
-            default_rate=default_rate,
+            default_rate=default_rate, deltas=deltas,
         )  # fmt: skip
         assert got.schema == RESULT_SCHEMA
         assert got.num_rows == len(rows)
@@ -127,6 +129,26 @@ def test_course_every_method_and_bad_rows(course: dict[str, Any]) -> None:
             "bad-option", "not-derivable", "error"} <= codes  # fmt: skip
 
 
+def test_course_delta_kitchens(course: dict[str, Any]) -> None:
+    # Deltas of the course kitchen (items removed, some added back, a new one added), every
+    # method at every level: the same answers as each kitchen built from its items.
+    items = list(course["kitchens"]["full"])
+    deltas = {}
+    for k in range(5):
+        remove = items[k::6]
+        add = {0: [], 1: remove[:2], 2: [{"label": "water"}]}[k % 3]
+        deltas[f"d{k}"] = (add, remove)
+    ks = foon.KitchenSet.with_deltas(items, deltas)
+    levels = (None, '{"level": 2}', '{"level": 1}')
+    rows: list[bref.Row] = []
+    for i, g in enumerate(course["goals"]):
+        for j, m in enumerate(foon.METHODS):
+            rows.append((f"{i}-{m}", f"d{(i + j) % 5}", g, m, levels[(i + 2 * j) % 3]))
+    want = check(course["foon"], ks, rows, motions=course["motions"], utensils=course["utensils"])
+    codes = {w["failure"] for w in want}
+    assert None in codes and "not-derivable" in codes
+
+
 def test_course_missing_rates_and_default_rate(course: dict[str, Any]) -> None:
     few = foon.MotionRates(dict(list(course["motions"].items())[:3]))
     rows: list[bref.Row] = []
@@ -180,6 +202,17 @@ def test_generated_foons_agree(g: GenFoon, data: st.DataObject) -> None:
         ))  # fmt: skip
     motions = foon.MotionRates(case.rates)
     check(f, ks, rows, motions=motions, utensils=sorted(case.utensils))
+    # The other kitchens as deltas of the first: items of it removed, others added.
+    base = list(ks["k"])
+    deltas = {}
+    for i, objs in enumerate(others):
+        drop = data.draw(st.lists(st.integers(0, max(len(base) - 1, 0)), max_size=3),
+                         label=f"removed {i}")  # fmt: skip
+        remove = [base[j] for j in drop if j < len(base)]
+        deltas[f"o{i}"] = ([f.object(o) for o in objs], remove)
+    deltas["k"] = ([], [])
+    ds = foon.KitchenSet.with_deltas(base, deltas)
+    check(f, ds, rows, motions=motions, utensils=sorted(case.utensils))
 
 
 # --- the kitchen set ------------------------------------------------------------------------
@@ -273,6 +306,8 @@ def test_query_table_checks(small: tuple[foon.Foon, foon.KitchenSet]) -> None:
         plan_table(f, {"k": []}, q)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="threads must be at least 1"):
         plan_table(f, ks, q, threads=0)
+    with pytest.raises(ValueError, match="deltas must be 'incremental' or 'from-scratch'"):
+        plan_table(f, ks, q, deltas="lazy")
 
 
 def test_import_foon_without_pyarrow() -> None:

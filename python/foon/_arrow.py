@@ -42,11 +42,17 @@ RESULT_SCHEMA: pa.Schema = pa.schema(
 FAILURE_CODES: tuple[str, ...] = tuple(_foon.failure_codes())
 
 
+#: A string column as the core reads it: the array's offset, its validity bitmap (``None``
+#: when no value is null), its offsets, its data, and whether the offsets are 64-bit.
+_Strings = tuple[int, bytes | None, bytes, bytes, bool]
+
+
 def _text_column(
     queries: pa.Table | pa.RecordBatch, name: str, required: bool = True
-) -> list[str | None] | None:
-    """A string column as a list (``None`` for nulls); ``ValueError`` naming it when it is
-    absent (and required) or not strings."""
+) -> _Strings | None:
+    """A string column as Arrow buffers (:data:`_Strings`); ``None`` when it is absent or
+    all null and not required; ``ValueError`` naming it when it is absent (and required) or
+    not strings."""
     if name not in queries.column_names:
         if not required:
             return None
@@ -56,14 +62,23 @@ def _text_column(
     col = queries.column(name)
     t = col.type
     if pa.types.is_null(t) and not required:
-        return [None] * len(col)
+        return None
     if pa.types.is_dictionary(t) and (
         pa.types.is_string(t.value_type) or pa.types.is_large_string(t.value_type)
     ):
         col = col.cast(pa.string())
     elif not (pa.types.is_string(t) or pa.types.is_large_string(t)):
         raise ValueError(f"query column '{name}' must be strings, not {t}")
-    return col.to_pylist()  # type: ignore[no-any-return]
+    if isinstance(col, pa.ChunkedArray):
+        col = col.combine_chunks()
+    valid, offsets, data = col.buffers()
+    return (
+        col.offset,
+        None if valid is None or col.null_count == 0 else valid.to_pybytes(),
+        b"" if offsets is None else offsets.to_pybytes(),
+        b"" if data is None else data.to_pybytes(),
+        pa.types.is_large_string(col.type),
+    )
 
 
 def _query_ids(queries: pa.Table | pa.RecordBatch) -> pa.Array | pa.ChunkedArray:
@@ -94,14 +109,17 @@ def plan_table(
     motions: MotionsLike = None,
     utensils: UtensilsLike = None,
     default_rate: float | None = None,
+    deltas: str = "incremental",
 ) -> pa.Table:
     """Answers every query row (columns :data:`QUERY_COLUMNS`) over ``foon`` with the
     kitchens of ``kitchens``: one result row per query, in query order, in the schema
     :data:`RESULT_SCHEMA`. A row that cannot be planned (unknown kitchen or method, bad
     goal or options) is a result row with its failure code. ``threads`` as for
     :meth:`foon.Planner.plan_many`; ``motions``, ``utensils`` and ``default_rate`` as for
-    :meth:`foon.Foon.plan` (a row's ``default_rate`` option replaces it). The interpreter
-    is released while the core plans."""
+    :meth:`foon.Foon.plan` (a row's ``default_rate`` option replaces it). ``deltas`` is how
+    the kitchens given as a base plus a delta are prepared: ``"incremental"`` (from the
+    base kitchen's preparation, the default) or ``"from-scratch"`` (from their own items);
+    the answers are the same either way. The interpreter is released while the core plans."""
     if not isinstance(foon, Foon):
         raise TypeError(f"foon must be a Foon, not {_type(foon)}")
     if not isinstance(kitchens, KitchenSet):
@@ -115,9 +133,10 @@ def plan_table(
     options = _text_column(queries, "options", required=False)
     assert kitchen_ids is not None and goals is not None and methods is not None
     rates = _as_rates(motions)
-    raw = _foon.plan_queries(
+    raw = _foon.plan_query_columns(
         foon._native,
         kitchens._native,
+        queries.num_rows,
         kitchen_ids,
         goals,
         methods,
@@ -126,6 +145,7 @@ def plan_table(
         _as_utensils(utensils),
         None if rates is None else list(rates.items()),
         default_rate,
+        deltas,
     )
     n = raw[0]
     b = pa.py_buffer

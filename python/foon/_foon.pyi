@@ -480,7 +480,7 @@ def derivable_many(
 ) -> list[list[bool]] | list[list[int | None]]: ...
 
 # Queries in, results out.
-__all__ += ["KitchenSet", "failure_codes", "plan_queries"]
+__all__ += ["KitchenSet", "failure_codes", "plan_queries", "plan_query_columns"]
 
 @final
 class KitchenSet:
@@ -516,6 +516,21 @@ def plan_queries(
     utensils: list[str] | None = None,
     rates: list[tuple[str, float]] | None = None,
     default_rate: float | None = None,
+    deltas: str | None = None,
+) -> tuple[Any, ...]: ...
+def plan_query_columns(
+    foon: Foon,
+    kitchens: KitchenSet,
+    n: int,
+    kitchen_ids: tuple[int, bytes | None, bytes, bytes, bool],
+    goals: tuple[int, bytes | None, bytes, bytes, bool],
+    methods: tuple[int, bytes | None, bytes, bytes, bool],
+    options: tuple[int, bytes | None, bytes, bytes, bool] | None = None,
+    threads: int | None = None,
+    utensils: list[str] | None = None,
+    rates: list[tuple[str, float]] | None = None,
+    default_rate: float | None = None,
+    deltas: str | None = None,
 ) -> tuple[Any, ...]: ...
 def failure_codes() -> list[str]: ...
 

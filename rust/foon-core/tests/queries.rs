@@ -7,7 +7,9 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 
 use foon_core::cache::PreparedCache;
-use foon_core::queries::{Answer, Failure, GoalText, KitchenSet, QueryRow, RunOptions};
+use foon_core::queries::{
+    Answer, DeltaPreparation, Failure, GoalText, KitchenSet, QueryRow, RunOptions,
+};
 use foon_core::search::batch::BatchOptions;
 use foon_core::{
     Compat, Context, Error, Foon, Kitchen, Method, ObjectSpec, ParseOptions, Prepared, Query,
@@ -283,30 +285,34 @@ fn strip(mut a: Vec<Answer>) -> Vec<Answer> {
 }
 
 /// Checks `run_queries` against each row alone, for 1 and 2 threads and a fresh or a warm
-/// cache.
+/// cache, with delta kitchens prepared incrementally and from scratch.
 fn check(foon: &Foon, set: &KitchenSet, rows: &[QueryRow<'_>], utensils: &[String]) {
     let want: Vec<Answer> = rows.iter().map(|r| alone(foon, set, r, utensils)).collect();
     let want = strip(want);
-    let cache = PreparedCache::default();
-    for threads in [Some(1), Some(2), Some(2), Some(1)] {
-        let opts = RunOptions {
-            batch: BatchOptions::threads(threads),
-            utensils,
-            rates: None,
-            default_rate: None,
-        };
-        let got = strip(foon_core::queries::run_queries(foon, set, rows, &cache, &opts).unwrap());
-        assert_eq!(got.len(), want.len());
-        for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-            assert_eq!(
-                g.failure, w.failure,
-                "row {i} ({:?}), {threads:?} threads",
-                rows[i]
-            );
-            assert_eq!(g.missing, w.missing, "row {i}");
-            assert_eq!(g.plan, w.plan, "row {i}");
-            if w.message.is_some() {
-                assert_eq!(g.message, w.message, "row {i}");
+    for deltas in [DeltaPreparation::Incremental, DeltaPreparation::FromScratch] {
+        let cache = PreparedCache::default();
+        for threads in [Some(1), Some(2), Some(2), Some(1)] {
+            let opts = RunOptions {
+                batch: BatchOptions::threads(threads),
+                utensils,
+                rates: None,
+                default_rate: None,
+                deltas,
+            };
+            let got =
+                strip(foon_core::queries::run_queries(foon, set, rows, &cache, &opts).unwrap());
+            assert_eq!(got.len(), want.len());
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert_eq!(
+                    g.failure, w.failure,
+                    "row {i} ({:?}), {threads:?} threads, {deltas:?}",
+                    rows[i]
+                );
+                assert_eq!(g.missing, w.missing, "row {i}, {deltas:?}");
+                assert_eq!(g.plan, w.plan, "row {i}, {deltas:?}");
+                if w.message.is_some() {
+                    assert_eq!(g.message, w.message, "row {i}, {deltas:?}");
+                }
             }
         }
     }
@@ -361,6 +367,109 @@ proptest! {
         let mut methods: Vec<String> = Method::ALL.iter().map(|m| m.as_str().to_owned()).collect();
         methods.push("nope".into());
         methods.push("IDS".into());
+        let rows: Vec<QueryRow<'_>> = picks
+            .iter()
+            .map(|&(k, g, m, o)| QueryRow {
+                kitchen: Some(kids[k].as_str()),
+                goal: Some(goals[g].as_str()),
+                method: Some(methods[m].as_str()),
+                options: OPTIONS[o],
+            })
+            .collect();
+        check(&foon, &set, &rows, &utensils);
+    }
+}
+
+/// An item of a generated kitchen: a label, a state, and a second state (none when 3).
+type Item = (usize, usize, usize);
+
+fn item_specs(items: &[Item]) -> Vec<ObjectSpec> {
+    items
+        .iter()
+        .map(|&(l, s, t)| {
+            let mut states = vec![STATES[s].to_owned()];
+            if t < STATES.len() && t != s {
+                states.push(STATES[t].to_owned());
+            }
+            ObjectSpec {
+                label: LABELS[l].into(),
+                states,
+                ..Default::default()
+            }
+        })
+        .collect()
+}
+
+fn item() -> impl Strategy<Value = Item> {
+    (0usize..6, 0usize..3, 0usize..4)
+}
+
+/// The goals and methods rows pick from (bad ones included).
+fn goals_and_methods() -> (Vec<String>, Vec<String>) {
+    let mut goals: Vec<String> = LABELS.iter().map(|l| (*l).to_owned()).collect();
+    for l in LABELS {
+        goals.push(format!(
+            r#"{{"label": "{l}", "states": ["{}"]}}"#,
+            STATES[l.len() % 3]
+        ));
+    }
+    goals.truncate(11);
+    goals.push("{bad".into());
+    let mut methods: Vec<String> = Method::ALL.iter().map(|m| m.as_str().to_owned()).collect();
+    methods.push("nope".into());
+    (goals, methods)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Kitchens given as one base plus deltas (items added, items of the base or others
+    /// removed, an item both added and removed): every answer, at every level and for every
+    /// method, is its row planned alone on the kitchen built from scratch, whether the delta
+    /// kitchens are prepared from the base's preparation or from their own items.
+    #[test]
+    fn delta_kitchens_answer_as_planned_alone(
+        text in foon_text(),
+        base in prop::collection::vec(item(), 0..8),
+        deltas in prop::collection::vec(
+            (
+                prop::collection::vec(item(), 0..3),
+                prop::collection::vec(0usize..8, 0..3),
+                prop::collection::vec(item(), 0..2),
+                any::<bool>(),
+            ),
+            1..6,
+        ),
+        picks in prop::collection::vec((0usize..6, 0usize..12, 0usize..9, 0usize..9), 1..40),
+    ) {
+        let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+        let utensils: Vec<String> = UTENSILS.iter().map(|s| (*s).to_owned()).collect();
+        let base_kitchen = Arc::new(Kitchen::from_specs(&item_specs(&base)).unwrap());
+        let ds: Vec<(String, Kitchen, Kitchen)> = deltas
+            .iter()
+            .enumerate()
+            .map(|(i, (add, drop, other, both))| {
+                let mut remove: Vec<Item> = drop
+                    .iter()
+                    .filter(|_| !base.is_empty())
+                    .map(|&j| base[j % base.len()])
+                    .collect();
+                remove.extend(other);
+                let mut add = add.clone();
+                if *both {
+                    // An item both added and removed is in the kitchen.
+                    add.extend(remove.first().copied());
+                }
+                (
+                    format!("k{i}"),
+                    Kitchen::from_specs(&item_specs(&add)).unwrap(),
+                    Kitchen::from_specs(&item_specs(&remove)).unwrap(),
+                )
+            })
+            .collect();
+        let set = KitchenSet::with_deltas(&base_kitchen, ds).unwrap();
+        let kids: Vec<String> = (0..6).map(|i| format!("k{i}")).collect();
+        let (goals, methods) = goals_and_methods();
         let rows: Vec<QueryRow<'_>> = picks
             .iter()
             .map(|&(k, g, m, o)| QueryRow {
@@ -554,4 +663,107 @@ fn many_waves_of_kitchens_and_delta_kitchens() {
             .iter()
             .any(|a| a.failure == Some(Failure::NotDerivable))
     );
+}
+
+#[test]
+fn course_delta_kitchens_equal_rows_alone() {
+    let Some(sh) = shared() else { return };
+    let d = sh.join("data/foon");
+    let foon = foon_core::load_foon(&d.join("FOON.txt"), ParseOptions::default()).unwrap();
+    let utensils = foon_core::parse::load_utensils(&d.join("utensils.txt")).unwrap();
+    let kitchen = Arc::new(Kitchen::load(&d.join("kitchen.json")).unwrap());
+    let specs = kitchen.specs();
+    // Deltas of the course kitchen: every seventh item from an offset removed, and (for
+    // some) items of another kitchen half added back or a new item added.
+    let deltas = (0..6).map(|k| {
+        let remove: Vec<ObjectSpec> = specs.iter().skip(k).step_by(7).cloned().collect();
+        let add: Vec<ObjectSpec> = match k % 3 {
+            0 => Vec::new(),
+            1 => remove.iter().take(2).cloned().collect(),
+            _ => vec![ObjectSpec {
+                label: "water".into(),
+                ..ObjectSpec::default()
+            }],
+        };
+        (
+            format!("d{k}"),
+            Kitchen::from_specs(&add).unwrap(),
+            Kitchen::from_specs(&remove).unwrap(),
+        )
+    });
+    let set = KitchenSet::with_deltas(&kitchen, deltas).unwrap();
+    let goals: Vec<String> = {
+        let text = std::fs::read_to_string(d.join("goal_nodes_25.json")).unwrap();
+        let v: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
+        v.iter().map(ToString::to_string).collect()
+    };
+    let methods: Vec<&str> = Method::ALL.iter().map(|m| m.as_str()).collect();
+    let levels = [None, Some(r#"{"level": 2}"#), Some(r#"{"level": 1}"#)];
+    let mut rows = Vec::new();
+    for (i, g) in goals.iter().enumerate() {
+        for (j, m) in methods.iter().enumerate() {
+            rows.push(QueryRow {
+                kitchen: Some(set.ids()[(i + j) % set.len()].as_str()),
+                goal: Some(g.as_str()),
+                method: Some(m),
+                options: levels[(i + 2 * j) % 3],
+            });
+        }
+    }
+    check(&foon, &set, &rows, &utensils);
+}
+
+#[test]
+fn a_wave_of_deltas_prepares_their_base_once() {
+    // A chain s0 -> ... -> s11, a base kitchen of s0 and s5; 200 deltas each removing one of
+    // them and adding another state (5 distinct kitchens, none the base), at level 3: the cache then holds the base once and
+    // each distinct delta kitchen once.
+    let mut text = String::new();
+    for i in 0..11 {
+        let _ = writeln!(
+            text,
+            "O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{}\n//",
+            i + 1
+        );
+    }
+    let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+    let item = |i: usize| format!(r#"{{"label": "item", "states": ["s{i}"]}}"#);
+    let base = Arc::new(kitchen(&format!("[{}, {}]", item(0), item(5))));
+    let set = KitchenSet::with_deltas(
+        &base,
+        (0..200).map(|i| {
+            (
+                format!("k{i}"),
+                kitchen(&format!(
+                    "[{}]",
+                    item(if i % 2 == 0 { 1 + i % 4 } else { 6 + i % 6 })
+                )),
+                kitchen(&format!("[{}]", item(if i % 2 == 0 { 0 } else { 5 }))),
+            )
+        }),
+    )
+    .unwrap();
+    let distinct: std::collections::HashSet<u128> = (0..set.len())
+        .map(|i| set.entry(i).fingerprint().unwrap())
+        .collect();
+    assert_eq!(distinct.len(), 5);
+    assert!(!distinct.contains(&base.fingerprint()));
+    let goal = item(11);
+    let rows: Vec<QueryRow<'_>> = set
+        .ids()
+        .iter()
+        .map(|k| QueryRow {
+            kitchen: Some(k.as_str()),
+            goal: Some(goal.as_str()),
+            method: Some("optimal-units"),
+            options: None,
+        })
+        .collect();
+    let cache = PreparedCache::default();
+    let got = foon_core::queries::run_queries(&foon, &set, &rows, &cache, &RunOptions::default())
+        .unwrap();
+    assert!(got.iter().all(Answer::solved));
+    let st = cache.stats();
+    assert_eq!(st.entries, distinct.len() + 1);
+    check(&foon, &set, &rows, &[]);
 }

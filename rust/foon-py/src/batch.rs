@@ -6,7 +6,7 @@
 use std::sync::{Arc, OnceLock};
 
 use foon_core::cache::{CacheLimits, PreparedCache};
-use foon_core::queries::{self, Answer, KitchenSet, QueryRow, RunOptions};
+use foon_core::queries::{self, Answer, DeltaPreparation, KitchenSet, QueryRow, RunOptions};
 use foon_core::search::batch::BatchOptions;
 use foon_core::{Kitchen, MotionRates};
 use pyo3::exceptions::PyKeyError;
@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyTuple};
 
 use crate::convert::{path_arg, rate_arg, rate_pairs_arg, str_list_field, threads_arg};
-use crate::errors::{PyFoonErr, enter, enter_here};
+use crate::errors::{PyFoonErr, enter};
 use crate::foon::PyFoon;
 use crate::kitchen::PyKitchen;
 
@@ -294,13 +294,83 @@ impl Columns {
     }
 }
 
+/// A string column as Arrow lays it out: the array's offset, its validity bitmap (`None`
+/// when no value is null), its offsets (`int32`, or `int64` when `large`) and its UTF-8 data.
+type ArrowStrings<'py> = (
+    usize,
+    Option<Bound<'py, PyBytes>>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    bool,
+);
+
+/// The `n` values of a string column given as Arrow buffers (`None` for a null), read
+/// without a Python object per value; a `ValueError` when the buffers do not hold `n`
+/// strings.
+fn arrow_strings<'a>(
+    col: &'a ArrowStrings<'_>,
+    n: usize,
+    name: &str,
+) -> PyResult<Vec<Option<&'a str>>> {
+    let (offset, valid, offsets, data, large) = col;
+    let (valid, offsets, data) = (
+        valid.as_ref().map(pyo3::types::PyBytesMethods::as_bytes),
+        offsets.as_bytes(),
+        data.as_bytes(),
+    );
+    let bad = |why: &str| {
+        pyo3::exceptions::PyValueError::new_err(format!(
+            "query column '{name}' is not a valid Arrow string array: {why}"
+        ))
+    };
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let w = if *large { 8 } else { 4 };
+    let end = offset
+        .checked_add(n)
+        .ok_or_else(|| bad("offset out of range"))?;
+    if offsets.len() < (end + 1) * w {
+        return Err(bad("too few offsets"));
+    }
+    if valid.is_some_and(|v| v.len() * 8 < end) {
+        return Err(bad("too short a validity bitmap"));
+    }
+    let at = |i: usize| -> PyResult<usize> {
+        let b = &offsets[i * w..(i + 1) * w];
+        let v = if *large {
+            i64::from_le_bytes(b.try_into().unwrap_or_default())
+        } else {
+            i64::from(i32::from_le_bytes(b.try_into().unwrap_or_default()))
+        };
+        usize::try_from(v).map_err(|_| bad("a negative offset"))
+    };
+    let mut out = Vec::with_capacity(n);
+    let mut lo = at(*offset)?;
+    for i in *offset..end {
+        let hi = at(i + 1)?;
+        if hi < lo || hi > data.len() {
+            return Err(bad("offsets out of order or out of range"));
+        }
+        let null = valid.is_some_and(|v| v[i / 8] >> (i % 8) & 1 == 0);
+        out.push(if null {
+            None
+        } else {
+            Some(std::str::from_utf8(&data[lo..hi]).map_err(|_| bad("invalid UTF-8"))?)
+        });
+        lo = hi;
+    }
+    Ok(out)
+}
+
 /// Answers query rows (columns of equal length; `None` for a null field) over `foon` with
-/// the kitchens of `kitchens`, on `threads` threads. Returns the answers as buffers:
+/// the kitchens of `kitchens`, on `threads` threads; `deltas` is how delta kitchens are
+/// prepared (`"incremental"`, the default, or `"from-scratch"`). Returns the answers as buffers:
 /// (rows, solved bitmap, then (validity, values) for `fu_count`, height, success, cost,
 /// `leaf_count`; (offsets, values) for units; (validity, offsets, data) for failure; (list
 /// offsets, string offsets, data) for missing; (validity, offsets, data) for message).
 #[pyfunction]
-#[pyo3(signature = (foon, kitchens, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None))]
+#[pyo3(signature = (foon, kitchens, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan_queries<'py>(
     py: Python<'py>,
@@ -314,6 +384,7 @@ pub(crate) fn plan_queries<'py>(
     utensils: Option<&Bound<'py, PyAny>>,
     rates: Option<&Bound<'py, PyAny>>,
     default_rate: Option<&Bound<'py, PyAny>>,
+    deltas: Option<&str>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let n = kitchen_ids.len();
     if goals.len() != n || methods.len() != n || options.as_ref().is_some_and(|o| o.len() != n) {
@@ -321,7 +392,98 @@ pub(crate) fn plan_queries<'py>(
             "the query columns must have the same length",
         ));
     }
+    let rows: Vec<QueryRow<'_>> = (0..n)
+        .map(|i| QueryRow {
+            kitchen: kitchen_ids[i].as_deref(),
+            goal: goals[i].as_deref(),
+            method: methods[i].as_deref(),
+            options: options.as_ref().and_then(|o| o[i].as_deref()),
+        })
+        .collect();
+    answer_rows(
+        py,
+        foon,
+        kitchens,
+        &rows,
+        (threads, utensils, rates, default_rate),
+        deltas,
+    )
+}
+
+/// As [`plan_queries`], with the columns of the `n` rows given as Arrow string buffers (see
+/// [`ArrowStrings`]; `options` may be absent), read without a Python object per value.
+#[pyfunction]
+#[pyo3(signature = (foon, kitchens, n, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn plan_query_columns<'py>(
+    py: Python<'py>,
+    foon: &PyFoon,
+    kitchens: &PyKitchenSet,
+    n: usize,
+    kitchen_ids: ArrowStrings<'py>,
+    goals: ArrowStrings<'py>,
+    methods: ArrowStrings<'py>,
+    options: Option<ArrowStrings<'py>>,
+    threads: Option<&Bound<'py, PyAny>>,
+    utensils: Option<&Bound<'py, PyAny>>,
+    rates: Option<&Bound<'py, PyAny>>,
+    default_rate: Option<&Bound<'py, PyAny>>,
+    deltas: Option<&str>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let kitchen_ids = arrow_strings(&kitchen_ids, n, "kitchen_id")?;
+    let goals = arrow_strings(&goals, n, "goal")?;
+    let methods = arrow_strings(&methods, n, "method")?;
+    let options = options
+        .as_ref()
+        .map(|o| arrow_strings(o, n, "options"))
+        .transpose()?;
+    let rows: Vec<QueryRow<'_>> = (0..n)
+        .map(|i| QueryRow {
+            kitchen: kitchen_ids[i],
+            goal: goals[i],
+            method: methods[i],
+            options: options.as_ref().and_then(|o| o[i]),
+        })
+        .collect();
+    answer_rows(
+        py,
+        foon,
+        kitchens,
+        &rows,
+        (threads, utensils, rates, default_rate),
+        deltas,
+    )
+}
+
+/// The planning arguments of a batch as Python gives them: threads, utensils, rates and
+/// default rate.
+type PlanArgs<'a, 'py> = (
+    Option<&'a Bound<'py, PyAny>>,
+    Option<&'a Bound<'py, PyAny>>,
+    Option<&'a Bound<'py, PyAny>>,
+    Option<&'a Bound<'py, PyAny>>,
+);
+
+/// Answers `rows` (see [`plan_queries`]).
+fn answer_rows<'py>(
+    py: Python<'py>,
+    foon: &PyFoon,
+    kitchens: &PyKitchenSet,
+    rows: &[QueryRow<'_>],
+    (threads, utensils, rates, default_rate): PlanArgs<'_, 'py>,
+    deltas: Option<&str>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let n = rows.len();
     let threads = threads_arg(threads)?;
+    let deltas = match deltas {
+        None | Some("incremental") => DeltaPreparation::Incremental,
+        Some("from-scratch") => DeltaPreparation::FromScratch,
+        Some(other) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "deltas must be 'incremental' or 'from-scratch', not '{other}'"
+            )));
+        }
+    };
     let utensils = match utensils.filter(|u| !u.is_none()) {
         Some(u) => str_list_field("utensils", u)?,
         None => Vec::new(),
@@ -340,16 +502,8 @@ pub(crate) fn plan_queries<'py>(
     if let Some(r) = default_rate {
         foon_core::check_rate(None, r).map_err(PyFoonErr)?;
     }
-    let rows: Vec<QueryRow<'_>> = (0..n)
-        .map(|i| QueryRow {
-            kitchen: kitchen_ids[i].as_deref(),
-            goal: goals[i].as_deref(),
-            method: methods[i].as_deref(),
-            options: options.as_ref().and_then(|o| o[i].as_deref()),
-        })
-        .collect();
     let batch = BatchOptions::threads(threads);
-    let workers = batch.workers(n).map_err(PyFoonErr)?;
+    batch.workers(n).map_err(PyFoonErr)?;
     let (f, set) = (&*foon.inner, &*kitchens.inner);
     let run = |cancel: crate::errors::Cancel<'_>| {
         let opts = RunOptions {
@@ -357,15 +511,14 @@ pub(crate) fn plan_queries<'py>(
             utensils: &utensils,
             rates: rates.as_ref(),
             default_rate,
+            deltas,
         };
-        let answers = queries::run_queries(f, set, &rows, cache(), &opts)?;
+        let answers = queries::run_queries(f, set, rows, cache(), &opts)?;
         Columns::of(&answers)
     };
-    let c = if workers <= 1 {
-        enter_here(py, run)?
-    } else {
-        enter(py, run)?
-    };
+    // Even on one thread the work runs on a thread of its own (`run_queries` keeps to one),
+    // which this one waits on while it looks at the signals.
+    let c = enter(py, run)?;
     let b = |v: &[u8]| PyBytes::new(py, v).into_any();
     let items: Vec<Bound<'py, PyAny>> = vec![
         n.into_pyobject(py)?.into_any(),

@@ -3,13 +3,17 @@
 //! - A [`KitchenSet`] names the kitchens; a [`QueryRow`] names a kitchen, a goal (a JSON
 //!   object or a label, resolved by the rules of `foon plan --goal/--label`), a method (any
 //!   name of [`Method`]) and options (a JSON object, see [`RowOptions`]).
-//! - [`run_queries`] checks every row first: a row it cannot plan (unknown kitchen or method,
-//!   bad options or goal) becomes an [`Answer`] with its [`Failure`], never an error of the
-//!   batch. The other rows are grouped by (kitchen, level, default rate); the groups are
-//!   prepared a wave at a time ([`wave_size`], at most 64) by [`prepare_kitchen`] (through the [`PreparedCache`], the
-//!   kitchens the cache lacks in one 64-lane pass of [`prepare_many`]), then their rows are
+//! - [`run_queries`] checks every row first (each distinct goal and options text read once):
+//!   a row it cannot plan (unknown kitchen or method, bad options or goal) becomes an
+//!   [`Answer`] with its [`Failure`], never an error of the batch. The other rows are grouped
+//!   by (kitchen, level, default rate); the groups are prepared a wave at a time
+//!   ([`wave_size`], at most 64) by [`prepare_wave`] (through the [`PreparedCache`]: the
+//!   kitchens the cache lacks in one 64-lane pass of [`prepare_many`], a kitchen given as a
+//!   base plus a delta from its base kitchen's preparation, [`DeltaPreparation`]), then
 //!   planned on the crate's batch thread pool (the policy of [`crate::search::batch`]:
-//!   threads, `FOON_THREADS`, cancel). Only one wave's prepared kitchens are held at a time.
+//!   threads, `FOON_THREADS`, cancel): a worker takes a group, derives its delta kitchen and
+//!   plans its first row of each query, then every other row of the wave runs on every
+//!   worker. Only one wave's prepared kitchens are held at a time.
 //! - Answers are in row order and identical for every thread count (a `time_limit` aside).
 //!   The only errors of the batch are a cancelled batch and a bad thread count.
 //!
@@ -360,6 +364,8 @@ pub struct RunOptions<'a> {
     pub rates: Option<&'a MotionRates>,
     /// The default rate of rows whose options give none.
     pub default_rate: Option<f64>,
+    /// How kitchens given as a base plus a delta are prepared (see [`prepare_kitchen`]).
+    pub deltas: DeltaPreparation,
 }
 
 /// The group of a row: its kitchen's position, its level and its default rate's bits.
@@ -368,18 +374,54 @@ type GroupKey = (usize, u8, Option<u64>);
 /// A checked row: where it goes and what it asks.
 struct Checked {
     group: usize,
-    goal: GoalText,
+    /// The row's goal: its position among the batch's distinct goals ([`Memo`]).
+    goal: usize,
     /// The goal's object, when it does not depend on the kitchen (level 3).
     goal_id: Option<u32>,
     query: Query,
     options: RowOptions,
 }
 
+/// A text read: its value, or the answer of the rows that give it.
+type Read<T> = std::result::Result<T, Box<Answer>>;
+
+/// What a batch reads once per distinct text: its goals (parsed, and at level 3 resolved)
+/// and its options (per method, which they are checked against).
+#[derive(Default)]
+struct Memo<'a> {
+    goal_of: FxHashMap<&'a str, usize>,
+    goals: Vec<std::result::Result<GoalText, Box<Answer>>>,
+    /// Per goal, its object at level 3, once asked for.
+    resolved: Vec<Option<std::result::Result<u32, Box<Answer>>>>,
+    options: FxHashMap<(Option<&'a str>, Method), Read<RowOptions>>,
+}
+
+impl<'a> Memo<'a> {
+    /// The position of goal `text` and its parse.
+    fn goal(&mut self, text: &'a str) -> (usize, &std::result::Result<GoalText, Box<Answer>>) {
+        let n = self.goals.len();
+        let i = *self.goal_of.entry(text).or_insert(n);
+        if i == n {
+            self.goals.push(
+                GoalText::parse(text).map_err(|e| Box::new(Answer::failed(Failure::BadGoal, &e))),
+            );
+            self.resolved.push(None);
+        }
+        (i, &self.goals[i])
+    }
+
+    /// The goal text of `goal`, parsed (only for the goals [`Memo::goal`] parsed well).
+    fn goal_text(&self, goal: usize) -> Option<&GoalText> {
+        self.goals.get(goal).and_then(|g| g.as_ref().ok())
+    }
+}
+
 /// Checks one row: its group key (kitchen position, level, default rate) and what it asks.
-fn check_row(
+fn check_row<'a>(
     set: &KitchenSet,
-    row: &QueryRow<'_>,
+    row: &QueryRow<'a>,
     default_rate: Option<f64>,
+    memo: &mut Memo<'a>,
 ) -> std::result::Result<(GroupKey, Checked), Box<Answer>> {
     let missing = |f: Failure, what: &str| Answer {
         plan: None,
@@ -402,12 +444,21 @@ fn check_row(
     let method: Method = method
         .parse()
         .map_err(|e| Box::new(Answer::failed(Failure::UnknownMethod, &e)))?;
-    let options = RowOptions::parse(row.options, method)
-        .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))?;
+    let options = memo
+        .options
+        .entry((row.options, method))
+        .or_insert_with(|| {
+            RowOptions::parse(row.options, method)
+                .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))
+        })
+        .clone()?;
     let Some(goal) = row.goal else {
         return Err(Box::new(missing(Failure::BadGoal, "goal")));
     };
-    let goal = GoalText::parse(goal).map_err(|e| Box::new(Answer::failed(Failure::BadGoal, &e)))?;
+    let (goal, parsed) = memo.goal(goal);
+    if let Err(a) = parsed {
+        return Err(a.clone());
+    }
     let query = Query {
         method,
         compat: options.compat,
@@ -424,17 +475,83 @@ fn check_row(
     Ok(((kitchen, options.level, rate), checked))
 }
 
+/// How a batch prepares the kitchens given as a base plus a delta ([`Entry::delta`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum DeltaPreparation {
+    /// From the preparation of the base kitchen (prepared once, through the cache, like any
+    /// kitchen), by [`Prepared::with_kitchen`]: what the base has computed (ranks, the
+    /// choice of `ids`, each optimal objective's costs and choices) is updated, touching
+    /// only what the delta changes. The default.
+    #[default]
+    Incremental,
+    /// From the delta kitchen's own items, as a kitchen given by its items (in the 64-lane
+    /// pass of [`prepare_many`]).
+    FromScratch,
+}
+
+/// What the base of delta kitchens should compute before the delta kitchens are derived
+/// from it: called with the base's preparation and the positions in the wave of the delta
+/// kitchens to be derived from it (see [`prepare_wave`]).
+pub type Warm<'a> = &'a (dyn Fn(&Prepared, &[usize]) -> Result<()> + Sync);
+
+/// A kitchen of a wave as [`prepare_wave`] leaves it: prepared, or to be derived from its
+/// base kitchen's preparation ([`WaveKitchen::prepared`]).
+pub enum WaveKitchen {
+    Ready(Arc<Prepared>),
+    Delta {
+        /// The base kitchen's preparation.
+        from: Arc<Prepared>,
+        /// The delta kitchen's key in the cache.
+        key: CacheKey,
+    },
+}
+
+impl WaveKitchen {
+    /// The prepared kitchen: for a delta kitchen, its `entry` matched at `level` (from its
+    /// own items: at levels 1 and 2 an item removed can leave its objects in the kitchen
+    /// through another item of the same key, so the objects are never derived from the
+    /// delta's items alone) and prepared from its base kitchen's preparation by
+    /// [`Prepared::with_kitchen`], then kept in `cache`.
+    pub fn prepared(
+        &self,
+        foon: &Foon,
+        cache: &PreparedCache,
+        entry: &Entry,
+        level: u8,
+    ) -> Result<Arc<Prepared>> {
+        match self {
+            Self::Ready(p) => Ok(Arc::clone(p)),
+            Self::Delta { from, key } => cache.get_or_prepare(*key, || {
+                let ids = entry.kitchen()?.match_at_level(foon, level)?;
+                from.with_kitchen(foon, &ids)
+            }),
+        }
+    }
+}
+
 /// Prepares the kitchens of one wave: `(base, entry, level)` each, in order. The one place
-/// kitchens of a batch are prepared: through `cache` (keyed by the FOON's, the base's and
-/// the kitchen's fingerprints and the level), the kitchens the cache lacks in one 64-lane
-/// pass per base ([`prepare_many`]). A delta kitchen is prepared here from its own items;
-/// an incremental preparation from its base's would be swapped in here.
-pub fn prepare_kitchen(
+/// kitchens of a batch are prepared, each through `cache` (keyed by the FOON's, the base's
+/// and the kitchen's fingerprints and the level):
+///
+/// - the kitchens given by their items (and, with [`DeltaPreparation::FromScratch`], the
+///   delta kitchens) that the cache lacks, in one 64-lane pass per base ([`prepare_many`]):
+///   one pass over the FOON for up to 64 kitchens, which no per-kitchen update beats for
+///   kitchens that share nothing;
+/// - with [`DeltaPreparation::Incremental`], each delta kitchen the cache lacks is left to
+///   be derived from the preparation of its base kitchen ([`WaveKitchen::Delta`]): the base
+///   kitchen is prepared once, through the cache under its own key (so the deltas of one
+///   base, in this wave and the next, share it), and `warm` computes on it what the
+///   deltas' rows will use, which each delta kitchen then updates rather than computes.
+///
+/// Every result is that of a preparation from scratch.
+pub fn prepare_wave(
     foon: &Foon,
     cache: &PreparedCache,
     wave: &[(Arc<PreparedBase>, &Entry, u8)],
     opts: &BatchOptions<'_>,
-) -> Result<Vec<Arc<Prepared>>> {
+    deltas: DeltaPreparation,
+    warm: Option<Warm<'_>>,
+) -> Result<Vec<WaveKitchen>> {
     let keys: Vec<CacheKey> = wave
         .iter()
         .map(|(b, e, l)| {
@@ -446,12 +563,23 @@ pub fn prepare_kitchen(
             })
         })
         .collect::<Result<_>>()?;
-    let mut out: Vec<Option<Arc<Prepared>>> = keys.iter().map(|k| cache.get(k)).collect();
-    // The misses, by base.
+    let mut out: Vec<Option<WaveKitchen>> = keys
+        .iter()
+        .map(|k| cache.get(k).map(WaveKitchen::Ready))
+        .collect();
+    // The misses: by base for the 64-lane pass, by (base, base kitchen, level) for deltas.
     let mut by_base: FxHashMap<u128, Vec<usize>> = FxHashMap::default();
+    let mut by_delta_base: FxHashMap<(u128, u128, u8), Vec<usize>> = FxHashMap::default();
     for (i, w) in wave.iter().enumerate() {
-        if out[i].is_none() {
-            by_base.entry(w.0.key()).or_default().push(i);
+        if out[i].is_some() {
+            continue;
+        }
+        match w.1.delta() {
+            Some(d) if deltas == DeltaPreparation::Incremental => {
+                let key = (w.0.key(), d.base.fingerprint(), w.2);
+                by_delta_base.entry(key).or_default().push(i);
+            }
+            _ => by_base.entry(w.0.key()).or_default().push(i),
         }
     }
     let mut bases: Vec<_> = by_base.into_iter().collect();
@@ -465,7 +593,23 @@ pub fn prepare_kitchen(
         let prepared = prepare_many(foon, &wave[idx[0]].0, &refs, opts)?;
         for (&i, p) in idx.iter().zip(prepared) {
             let p = p.at_level(wave[i].2);
-            out[i] = Some(cache.get_or_prepare(keys[i], || Ok(p))?);
+            out[i] = Some(WaveKitchen::Ready(cache.get_or_prepare(keys[i], || Ok(p))?));
+        }
+    }
+    let mut delta_bases: Vec<_> = by_delta_base.into_values().collect();
+    delta_bases.sort_unstable_by_key(|v| v[0]);
+    for idx in delta_bases {
+        let (base, entry, level) = &wave[idx[0]];
+        let Some(d) = entry.delta() else { continue };
+        let from = cache.kitchen(foon, base, &d.base, *level)?;
+        if let Some(warm) = warm {
+            warm(&from, &idx)?;
+        }
+        for &i in &idx {
+            out[i] = Some(WaveKitchen::Delta {
+                from: Arc::clone(&from),
+                key: keys[i],
+            });
         }
     }
     out.into_iter()
@@ -473,8 +617,53 @@ pub fn prepare_kitchen(
         .collect()
 }
 
+/// [`prepare_wave`], with the delta kitchens derived too, on up to the batch's workers at
+/// once: every kitchen of the wave prepared, in order.
+pub fn prepare_kitchen(
+    foon: &Foon,
+    cache: &PreparedCache,
+    wave: &[(Arc<PreparedBase>, &Entry, u8)],
+    opts: &BatchOptions<'_>,
+    deltas: DeltaPreparation,
+    warm: Option<Warm<'_>>,
+) -> Result<Vec<Arc<Prepared>>> {
+    let kitchens = prepare_wave(foon, cache, wave, opts, deltas, warm)?;
+    let never = || false;
+    let cancel: &(dyn Fn() -> bool + Sync) = opts.cancel.unwrap_or(&never);
+    let slots: Vec<OnceLock<Result<Arc<Prepared>>>> =
+        kitchens.iter().map(|_| OnceLock::new()).collect();
+    let positions: Vec<usize> = (0..kitchens.len()).collect();
+    plan_rows(&positions, opts.workers(kitchens.len())?, cancel, &|i| {
+        let r = kitchens[i].prepared(foon, cache, wave[i].1, wave[i].2);
+        let ok = r.is_ok();
+        let _ = slots[i].set(r);
+        ok
+    })?;
+    // The first error, if any, else every kitchen (a slot left empty: cancelled).
+    let mut done = Vec::with_capacity(slots.len());
+    let mut failed = None;
+    for slot in slots {
+        match slot.into_inner() {
+            Some(Ok(p)) => done.push(Some(p)),
+            Some(Err(e)) => {
+                failed.get_or_insert(e);
+                done.push(None);
+            }
+            None => done.push(None),
+        }
+    }
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    done.into_iter()
+        .map(|p| p.ok_or(Error::Cancelled))
+        .collect()
+}
+
 /// Answers every row of `rows` over `foon` with the kitchens of `set` (see the module
-/// documentation). Errors only when cancelled or given a bad thread count.
+/// documentation). Errors only when cancelled or given a bad thread count. On one thread
+/// (`threads` 1, or one row) every step keeps to one thread, what a prepared kitchen
+/// computes once included.
 pub fn run_queries(
     foon: &Foon,
     set: &KitchenSet,
@@ -483,30 +672,55 @@ pub fn run_queries(
     opts: &RunOptions<'_>,
 ) -> Result<Vec<Answer>> {
     let workers = opts.batch.workers(rows.len())?;
+    if workers <= 1 {
+        return crate::search::batch::on_one_thread(|| {
+            answer_rows(foon, set, rows, cache, opts, 1)
+        })?;
+    }
+    answer_rows(foon, set, rows, cache, opts, workers)
+}
+
+/// [`run_queries`] on `workers` workers.
+fn answer_rows(
+    foon: &Foon,
+    set: &KitchenSet,
+    rows: &[QueryRow<'_>],
+    cache: &PreparedCache,
+    opts: &RunOptions<'_>,
+    workers: usize,
+) -> Result<Vec<Answer>> {
     let never = || false;
     let cancel: &(dyn Fn() -> bool + Sync) = opts.batch.cancel.unwrap_or(&never);
     let mut answers: Vec<Option<Answer>> = Vec::with_capacity(rows.len());
     let mut groups: Vec<GroupKey> = Vec::new();
     let mut group_of: FxHashMap<GroupKey, usize> = FxHashMap::default();
     let mut checked: Vec<(usize, Checked)> = Vec::new();
-    // At level 3 a goal does not depend on the kitchen: each distinct goal text is resolved
-    // once, and a row whose goal is not found needs no kitchen.
-    let mut resolved: FxHashMap<&str, std::result::Result<u32, Box<Answer>>> = FxHashMap::default();
+    // Each distinct goal and options text is read once. At level 3 a goal does not depend
+    // on the kitchen: it is resolved once, and a row whose goal is not found needs no
+    // kitchen.
+    let mut memo = Memo::default();
     for (i, row) in rows.iter().enumerate() {
-        match check_row(set, row, opts.default_rate) {
+        match check_row(set, row, opts.default_rate, &mut memo) {
             Ok((key, mut c)) => {
-                if let (3, Some(text)) = (c.options.level, row.goal) {
-                    let r = resolved.entry(text).or_insert_with(|| {
-                        c.goal
-                            .resolve_by_identity(foon)
-                            .map_err(|e| Box::new(Answer::of_error(&e)))
-                    });
-                    match r {
-                        Ok(g) => c.goal_id = Some(*g),
-                        Err(a) => {
+                if c.options.level == 3 {
+                    let g = c.goal;
+                    if memo.resolved[g].is_none() {
+                        let r = memo
+                            .goal_text(g)
+                            .map_or_else(
+                                || Err(Error::Invalid("a goal was not read".into())),
+                                |t| t.resolve_by_identity(foon),
+                            )
+                            .map_err(|e| Box::new(Answer::of_error(&e)));
+                        memo.resolved[g] = Some(r);
+                    }
+                    match &memo.resolved[g] {
+                        Some(Ok(o)) => c.goal_id = Some(*o),
+                        Some(Err(a)) => {
                             answers.push(Some((**a).clone()));
                             continue;
                         }
+                        None => {}
                     }
                 }
                 c.group = *group_of.entry(key).or_insert_with(|| {
@@ -519,8 +733,24 @@ pub fn run_queries(
             Err(a) => answers.push(Some(*a)),
         }
     }
-    // Rows by group (stable: row order within a group).
-    checked.sort_by_key(|(_, c)| c.group);
+    let goals: Vec<Option<&GoalText>> = (0..memo.goals.len()).map(|g| memo.goal_text(g)).collect();
+    // Rows by group (stable: row order within a group), by counting.
+    let checked = {
+        let mut at = vec![0usize; groups.len() + 1];
+        for (_, c) in &checked {
+            at[c.group + 1] += 1;
+        }
+        for g in 0..groups.len() {
+            at[g + 1] += at[g];
+        }
+        let mut slots: Vec<Option<(usize, Checked)>> = (0..checked.len()).map(|_| None).collect();
+        for rc in checked {
+            let g = rc.1.group;
+            slots[at[g]] = Some(rc);
+            at[g] += 1;
+        }
+        slots.into_iter().flatten().collect::<Vec<_>>()
+    };
     let mut start = 0;
     let wave_len = wave_size(foon);
     for wave_lo in (0..groups.len()).step_by(wave_len) {
@@ -533,66 +763,115 @@ pub fn run_queries(
         start = end;
         // The bases of the wave (one per default rate), then its kitchens.
         let mut wave = Vec::new();
+        // The group of each kitchen of the wave.
+        let mut wave_group = Vec::new();
         let mut bad: Vec<Option<Answer>> = Vec::new();
-        for &(k, level, rate) in &groups[wave_lo..wave_hi] {
+        for (g, &(k, level, rate)) in (wave_lo..).zip(&groups[wave_lo..wave_hi]) {
             let base = cache.base(foon, opts.utensils, opts.rates, rate.map(f64::from_bits));
             match base {
                 Ok(b) => {
                     wave.push((b, set.entry(k), level));
+                    wave_group.push(g);
                     bad.push(None);
                 }
                 Err(e) => bad.push(Some(Answer::of_error(&e))),
             }
         }
-        let prepared = match prepare_kitchen(foon, cache, &wave, &opts.batch) {
+        // The rows of each group of the wave.
+        let mut ranges = Vec::with_capacity(wave_hi - wave_lo);
+        let mut lo = 0;
+        for g in wave_lo..wave_hi {
+            let hi = lo + rows_here[lo..].partition_point(|(_, c)| c.group <= g);
+            ranges.push(lo..hi);
+            lo = hi;
+        }
+        let warm = |from: &Prepared, positions: &[usize]| {
+            warm_base(
+                foon,
+                from,
+                &goals,
+                positions
+                    .iter()
+                    .flat_map(|&p| &rows_here[ranges[wave_group[p] - wave_lo].clone()])
+                    .map(|(_, c)| c),
+                cancel,
+            )
+        };
+        let kitchens = match prepare_wave(foon, cache, &wave, &opts.batch, opts.deltas, Some(&warm))
+        {
             Ok(p) => p.into_iter().map(Ok).collect::<Vec<_>>(),
             Err(Error::Cancelled) => return Err(Error::Cancelled),
             Err(e) => wave.iter().map(|_| Err(e.to_string())).collect(),
         };
-        // Per group of the wave: its prepared kitchen, or the answer of its rows.
-        let mut preps: Vec<std::result::Result<&Arc<Prepared>, Answer>> = Vec::new();
-        let mut next_prep = prepared.iter();
+        // Per group of the wave: what prepares its kitchen (and where in the wave), or the
+        // answer of its rows.
+        let mut pending: Vec<std::result::Result<(usize, WaveKitchen), Answer>> = Vec::new();
+        let mut next = kitchens.into_iter().enumerate();
         for b in bad {
-            match b {
-                Some(a) => preps.push(Err(a)),
-                None => match next_prep.next() {
-                    Some(Ok(p)) => preps.push(Ok(p)),
-                    Some(Err(m)) => {
-                        preps.push(Err(Answer::of_error(&Error::Invalid(m.clone()))));
-                    }
-                    None => preps.push(Err(Answer::of_error(&Error::Invalid(
+            pending.push(match b {
+                Some(a) => Err(a),
+                None => match next.next() {
+                    Some((w, Ok(k))) => Ok((w, k)),
+                    Some((_, Err(m))) => Err(Answer::of_error(&Error::Invalid(m))),
+                    None => Err(Answer::of_error(&Error::Invalid(
                         "a kitchen was not prepared".into(),
-                    )))),
+                    ))),
                 },
-            }
+            });
         }
+        // Per group: its prepared kitchen (a delta kitchen is derived by the worker that
+        // takes the group), or the answer of its rows.
+        let preps: Vec<OnceLock<std::result::Result<Arc<Prepared>, Answer>>> =
+            pending.iter().map(|_| OnceLock::new()).collect();
+        #[allow(clippy::result_large_err)] // the answer is cloned for each of the group's rows
+        let prep_of = |j: usize| -> Result<&std::result::Result<Arc<Prepared>, Answer>> {
+            if let Some(p) = preps[j].get() {
+                return Ok(p);
+            }
+            let p = match &pending[j] {
+                Err(a) => Err(a.clone()),
+                Ok((w, k)) => match k.prepared(foon, cache, wave[*w].1, wave[*w].2) {
+                    Ok(p) => Ok(p),
+                    Err(Error::Cancelled) => return Err(Error::Cancelled),
+                    Err(e) => Err(Answer::of_error(&e)),
+                },
+            };
+            Ok(preps[j].get_or_init(|| p))
+        };
         let one = |c: &Checked| -> Result<Answer> {
-            let prep = match &preps[c.group - wave_lo] {
+            let prep = match prep_of(c.group - wave_lo)? {
                 Ok(p) => p,
                 Err(a) => return Ok(a.clone()),
             };
-            answer(foon, prep, c, cancel)
+            let goal = goals[c.goal].ok_or_else(|| Error::Invalid("a goal was not read".into()))?;
+            answer(foon, prep, goal, c, cancel)
         };
         let slots: Vec<OnceLock<Result<Answer>>> =
             rows_here.iter().map(|_| OnceLock::new()).collect();
         // What a prepared kitchen computes on first use (ranks, optima, the choices of
-        // `ids`) is computed by the first row of each (kitchen, query) alone: those rows run
-        // first, so that two workers do not compute the same thing for one kitchen at once.
+        // `ids`) is computed by the first row of each (kitchen, query) alone: a worker takes
+        // a group, prepares its kitchen and plans those rows, then the other rows of the
+        // wave run, so that two workers do not compute the same thing for one kitchen at
+        // once.
+        let mut leaders: Vec<Vec<usize>> = vec![Vec::new(); wave_hi - wave_lo];
+        let mut followers = Vec::new();
         let mut seen = rustc_hash::FxHashSet::default();
-        let (mut leaders, mut followers) = (Vec::new(), Vec::new());
         for (j, (_, c)) in rows_here.iter().enumerate() {
             if seen.insert((c.group, c.query)) {
-                leaders.push(j);
+                leaders[c.group - wave_lo].push(j);
             } else {
                 followers.push(j);
             }
         }
-        for phase in [leaders, followers] {
-            plan_rows(&phase, workers, cancel, &|j| {
-                let _ = slots[j].set(one(&rows_here[j].1));
-                slots[j].get().is_some_and(Result::is_ok)
-            })?;
-        }
+        let run_row = |j: usize| {
+            let _ = slots[j].set(one(&rows_here[j].1));
+            slots[j].get().is_some_and(Result::is_ok)
+        };
+        let in_wave: Vec<usize> = (0..wave_hi - wave_lo).collect();
+        plan_rows(&in_wave, workers, cancel, &|g| {
+            leaders[g].iter().all(|&j| !cancel() && run_row(j))
+        })?;
+        plan_rows(&followers, workers, cancel, &run_row)?;
         for (slot, (i, _)) in slots.into_iter().zip(rows_here) {
             match slot.into_inner() {
                 Some(Ok(a)) => answers[*i] = Some(a),
@@ -660,10 +939,75 @@ fn plan_rows(
     Ok(())
 }
 
+/// Tries on a base kitchen's preparation `from` a few rows of the delta kitchens about to be
+/// derived from it (`rows`, their goals in `goals`), so that it computes what they will use
+/// (its ranks, and what planning their queries computes once per kitchen: the choice of
+/// `ids`, the optimal objectives), which every delta kitchen then updates rather than
+/// computes: up to [`WARM_TRIES`] rows per query, until one is solved. When a row is sound,
+/// a goal that cannot be made in the base is planned too, for the shopping costs of
+/// explanations. The answers are dropped (only a cancel is an error).
+fn warm_base<'c>(
+    foon: &Foon,
+    from: &Prepared,
+    goals: &[Option<&GoalText>],
+    rows: impl Iterator<Item = &'c Checked>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<()> {
+    let ctx = Context::with(foon, from)?.with_cancel(cancel);
+    let ranks = ctx.ranks();
+    let mut tries: FxHashMap<Query, usize> = FxHashMap::default();
+    let mut sound = false;
+    for c in rows {
+        // `optimal-shared` reads the optima of `optimal-units` and `optimal-success`.
+        let query = match c.query.method {
+            Method::OptimalShared => Query {
+                method: Method::OptimalUnits,
+                ..c.query
+            },
+            _ => c.query,
+        };
+        sound |= query.compat == Compat::Sound && query.method != Method::Bfs;
+        let n = tries.entry(query).or_insert(0);
+        if *n >= WARM_TRIES {
+            continue;
+        }
+        *n += 1;
+        let Some(text) = goals.get(c.goal).copied().flatten() else {
+            continue;
+        };
+        let goal = match c
+            .goal_id
+            .map_or_else(|| text.resolve(&ctx, c.options.level), Ok)
+        {
+            Ok(g) => g,
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(_) => continue,
+        };
+        match ctx.plan(goal, query) {
+            Ok(p) if p.solved => *n = WARM_TRIES,
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            _ => {}
+        }
+    }
+    if sound {
+        let unmade = (0..foon.object_count() as u32).find(|&o| ranks.rank(o).is_none());
+        if let Some(o) = unmade {
+            if let Err(Error::Cancelled) = ctx.plan(o, Query::default()) {
+                return Err(Error::Cancelled);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Rows per query tried on the base of delta kitchens, at most ([`warm_base`]).
+const WARM_TRIES: usize = 4;
+
 /// Plans one checked row on its prepared kitchen.
 fn answer(
     foon: &Foon,
     prep: &Prepared,
+    goal: &GoalText,
     c: &Checked,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Answer> {
@@ -672,7 +1016,7 @@ fn answer(
         .with_shared(c.options.shared);
     let goal = match c
         .goal_id
-        .map_or_else(|| c.goal.resolve(&ctx, c.options.level), Ok)
+        .map_or_else(|| goal.resolve(&ctx, c.options.level), Ok)
     {
         Ok(g) => g,
         Err(Error::Cancelled) => return Err(Error::Cancelled),

@@ -155,7 +155,33 @@ fn pool() -> Result<Arc<rayon::ThreadPool>> {
 /// here, and a child forked after any of them builds its own threads. On a worker of the pool
 /// `f` runs in place.
 pub(crate) fn in_pool<R: Send>(f: impl FnOnce() -> R + Send) -> Result<R> {
+    if ONE_THREAD.with(std::cell::Cell::get) {
+        return Ok(f());
+    }
     Ok(pool()?.install(f))
+}
+
+thread_local! {
+    /// Whether this thread runs [`on_one_thread`]'s work.
+    static ONE_THREAD: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f` on one thread: on a pool of one worker built for the call, where every
+/// [`in_pool`] inside `f` runs in place, so every parallel step of the crate inside it (what
+/// a prepared kitchen computes once included) runs on that thread alone. How a batch asked
+/// for one thread keeps to one.
+pub(crate) fn on_one_thread<R: Send>(f: impl FnOnce() -> R + Send) -> Result<R> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .thread_name(|_| "foon-one".into())
+        .build()
+        .map_err(|e| Error::Invalid(format!("could not start a planning thread: {e}")))?;
+    Ok(pool.install(|| {
+        ONE_THREAD.with(|c| c.set(true));
+        let r = f();
+        ONE_THREAD.with(|c| c.set(false));
+        r
+    }))
 }
 
 /// Plans every goal of `goals` with `query` over inputs prepared for `foon` (see the module
