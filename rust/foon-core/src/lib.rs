@@ -32,8 +32,8 @@ pub mod write;
 
 // Many kitchens at once: the shared base, the 64-lane pass, the cache of prepared kitchens.
 pub mod cache;
-pub mod multi;
 mod incremental;
+pub mod multi;
 pub use prepare::PreparedBase;
 
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};
