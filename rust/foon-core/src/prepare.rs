@@ -188,7 +188,7 @@ impl Prepared {
             optima: Default::default(),
             ids_choice: OnceLock::new(),
             level: 3,
-            kbest: Default::default(),
+            kbest: crate::search::kbest::AncestryCache::default(),
         })
     }
 
@@ -360,7 +360,7 @@ impl Prepared {
             optima: Default::default(),
             ids_choice: OnceLock::new(),
             level: self.level,
-            kbest: Default::default(),
+            kbest: crate::search::kbest::AncestryCache::default(),
         }
     }
 
