@@ -37,6 +37,8 @@ pub struct Prepared {
     ids_choice: OnceLock<Vec<u32>>,
     /// The identity level the kitchen was matched at (1, 2 or 3; results report it).
     level: u8,
+    /// The goals' ancestries the k best trees were computed over, kept for later calls.
+    pub(crate) kbest: crate::search::kbest::AncestryCache,
 }
 
 /// The part of [`Prepared`] that does not depend on the kitchen, computed once per (FOON,
@@ -186,6 +188,7 @@ impl Prepared {
             optima: Default::default(),
             ids_choice: OnceLock::new(),
             level: 3,
+            kbest: crate::search::kbest::AncestryCache::default(),
         })
     }
 
@@ -357,6 +360,7 @@ impl Prepared {
             optima: Default::default(),
             ids_choice: OnceLock::new(),
             level: self.level,
+            kbest: crate::search::kbest::AncestryCache::default(),
         }
     }
 

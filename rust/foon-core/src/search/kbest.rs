@@ -16,13 +16,14 @@
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::sync::{Arc, Mutex};
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::optimal::Entry;
 use super::{Context, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
-use crate::evaluate::TreeMetrics;
+use crate::evaluate::{self, ShapeBuf, StampedMarks, TreeMetrics, TreeView};
 use crate::index::NONE;
 use crate::prepare::{Objective, Optimum};
 
@@ -60,15 +61,70 @@ pub(super) struct Local {
     weight: Vec<f64>,
     leaf_cost: f64,
     goal: u32,
-    /// The kitchen's optimum in local ids (cost, choice), when prepared: the best tree of the
-    /// whole space, and every object's best completion outside a subspace's constraints.
-    opt: Option<(Vec<f64>, Vec<u32>)>,
+    /// The kitchen's optimum in local ids, when prepared: the best tree of the whole space,
+    /// and every object's best completion outside a subspace's constraints.
+    opt: Option<Opt>,
     /// With the optimum: the objects whose optimum's unit needs each object (once per needed
     /// slot).
     opt_users: Lists,
-    /// Every unit weighs more than 0 and, at the optimum's costs, costs more than each of its
-    /// inputs: Knuth then finalises objects in (cost, id) order (see `solve_seeded`).
-    strict: bool,
+}
+
+/// The kitchen's optimum over a goal's ancestry, in local ids: each object's final cost, tie
+/// key (`optimal::tie_depth`) and choice (`NONE`: none, or a leaf).
+struct Opt {
+    cost: Vec<f64>,
+    depth: Vec<u32>,
+    choice: Vec<u32>,
+}
+
+/// The goals' ancestries of one prepared kitchen ([`Local`], with the weights and the
+/// kitchen's optimum over it), per (goal, optimal objective), kept for later k-best and
+/// enumeration calls on the same kitchen: they depend on nothing else. At most
+/// [`AncestryCache::GOALS`] are kept; when it is full, it is emptied before the next one is
+/// kept. Plans from scratch neither read nor fill it.
+#[derive(Default)]
+pub(crate) struct AncestryCache {
+    map: Mutex<FxHashMap<(u32, u8), Arc<Local>>>,
+}
+
+impl AncestryCache {
+    /// How many ancestries a kitchen keeps at most.
+    pub(crate) const GOALS: usize = 64;
+
+    fn key(goal: u32, method: Method) -> (u32, u8) {
+        (goal, method as u8)
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, FxHashMap<(u32, u8), Arc<Local>>> {
+        // A poisoned lock only means a thread panicked while holding it: the map is whole.
+        self.map
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// The ancestry of `goal` for `method` kept by the context's kitchen, if any.
+    fn get(ctx: &Context<'_>, goal: u32, method: Method) -> Option<Arc<Local>> {
+        if ctx.is_from_scratch() {
+            return None;
+        }
+        ctx.kbest.lock().get(&Self::key(goal, method)).cloned()
+    }
+
+    /// The ancestry of `goal` for `method`: the one kept, or built (and kept).
+    fn local(ctx: &Context<'_>, goal: u32, method: Method) -> Result<Arc<Local>> {
+        if let Some(g) = Self::get(ctx, goal, method) {
+            return Ok(g);
+        }
+        let g = Arc::new(Local::new(ctx, goal, method)?);
+        if !ctx.is_from_scratch() {
+            let mut map = ctx.kbest.lock();
+            if map.len() >= Self::GOALS {
+                map.clear();
+            }
+            map.insert(Self::key(goal, method), Arc::clone(&g));
+        }
+        Ok(g)
+    }
 }
 
 /// Which cost a k-best search minimises.
@@ -214,6 +270,7 @@ impl Local {
         let (weight, leaf_cost) = weights(ctx, method, &fus)?;
         let opt = prepared(ctx, method)?.and_then(|o| {
             let cost: Vec<f64> = objs.iter().map(|&x| o.cost[x as usize]).collect();
+            let depth: Vec<u32> = objs.iter().map(|&x| o.depth[x as usize]).collect();
             let choice = objs
                 .iter()
                 .map(|&x| match o.choice[x as usize] {
@@ -221,21 +278,14 @@ impl Local {
                     f => fus.binary_search(&f).ok().map(|i| i as u32),
                 })
                 .collect::<Option<Vec<u32>>>()?;
-            Some((cost, choice))
-        });
-        let strict = opt.as_ref().is_some_and(|(cost, _)| {
-            weight.iter().all(|&w| w > 0.0)
-                && needed.lists().zip(&weight).all(|(ins, &w)| {
-                    let (mut c, mut top) = (w, f64::NEG_INFINITY);
-                    for &x in ins {
-                        c += cost[x as usize];
-                        top = top.max(cost[x as usize]);
-                    }
-                    !c.is_finite() || c > top
-                })
+            Some(Opt {
+                cost,
+                depth,
+                choice,
+            })
         });
         let mut opt_needs = Lists::with_capacity(objs.len());
-        if let Some((_, choice)) = &opt {
+        if let Some(Opt { choice, .. }) = &opt {
             for &f in choice {
                 if f != NONE {
                     opt_needs.data.extend_from_slice(&needed[f as usize]);
@@ -257,7 +307,6 @@ impl Local {
             leaf_cost,
             opt,
             opt_users,
-            strict,
         })
     }
 }
@@ -477,11 +526,12 @@ impl Local {
     /// that choice banned; and every object whose optimum's tree holds one of them), seeded
     /// with the optimum's final costs of the unaffected inputs of their units: the others keep
     /// the optimum's cost and choice (their optimum's tree is in the subspace, and a
-    /// constraint only raises costs, so it is still the best, with the same lowest unit index
-    /// among those that set the cost). Exact when every unit costs more
-    /// than each of its inputs (`strict`, checked again on each unit fired): Knuth then
-    /// finalises objects in (cost, id) order, so every unit fires before the same objects as
-    /// in the full run, and the choices (ties included) are the same.
+    /// constraint only raises costs and tie keys, so it is still the best, with the same lowest
+    /// unit index among those that set the (cost, tie key)). The unaffected inputs are final at
+    /// the optimum's (cost, tie key), which are theirs in the subspace: Knuth's algorithm over
+    /// the affected objects then gives their final (cost, tie key) and choices as the full run
+    /// does (a unit's (cost, tie key) is above each of its inputs', so every unit that can set
+    /// an object's final key fires before the object is final).
     fn solve_seeded(
         &self,
         w: &[f64],
@@ -489,9 +539,10 @@ impl Local {
         work: &mut Work,
         scratch: &mut ReadScratch,
     ) -> Seeded {
-        let Some((ocost, ochoice)) = self.opt.as_ref() else {
+        let Some(opt) = self.opt.as_ref() else {
             return Seeded::Full;
         };
+        let (ocost, ochoice) = (&opt.cost, &opt.choice);
         let g = self.goal as usize;
         if c.fixed.is_empty() && c.banned.is_empty() {
             if !ocost[g].is_finite() {
@@ -503,9 +554,6 @@ impl Local {
                 preorder,
                 units,
             });
-        }
-        if !self.strict {
-            return Seeded::Full;
         }
         work.epoch = work.epoch.wrapping_add(1);
         if work.epoch == 0 {
@@ -542,10 +590,15 @@ impl Local {
                 }
             }
         }
-        let ok = work.stamp[g] == e && self.run_seeded(w, c, work, &list, &mut units, ocost);
+        // The goal is affected in every subspace but the whole space (the optimum's tree was
+        // listed first); otherwise the full run.
+        let affected = work.stamp[g] == e;
+        if affected {
+            self.run_seeded(w, c, work, &list, &mut units, opt);
+        }
         work.list = list;
         work.units = units;
-        if !ok {
+        if !affected {
             return Seeded::Full;
         }
         if !work.done[g] || !work.cost[g].is_finite() {
@@ -568,8 +621,7 @@ impl Local {
         })
     }
 
-    /// Knuth's algorithm over the affected objects `list` (see `solve_seeded`): whether every
-    /// unit fired cost more than each of its inputs.
+    /// Knuth's algorithm over the affected objects `list` (see `solve_seeded`).
     fn run_seeded(
         &self,
         w: &[f64],
@@ -577,8 +629,9 @@ impl Local {
         work: &mut Work,
         list: &[u32],
         units: &mut Vec<u32>,
-        ocost: &[f64],
-    ) -> bool {
+        opt: &Opt,
+    ) {
+        let ocost = &opt.cost;
         let e = work.epoch;
         work.heap.clear();
         for &y in list {
@@ -594,11 +647,11 @@ impl Local {
                 }
             }
         }
-        // An unaffected input is final at the optimum's cost: it is not put on the heap, and
-        // a unit waits only for its affected inputs (it never runs with an input of infinite
-        // cost, as in the full run). A unit may so run before some object is final that it
-        // would run after in the full run; it then offers it more than that object's cost
-        // (every unit costs more than each of its inputs), which changes nothing.
+        // An unaffected input is final at the optimum's (cost, tie key): it is not put on the
+        // heap, and a unit waits only for its affected inputs (it never runs with an input of
+        // infinite cost, as in the full run). A unit may so run before some object is final
+        // that it would run after in the full run; it then offers it more than that object's
+        // (cost, tie key), which changes nothing.
         for &f in units.iter() {
             let mut left = 0;
             for &x in &self.needed[f as usize] {
@@ -611,9 +664,7 @@ impl Local {
                     work.fstamp[xi] = e;
                     work.done[xi] = true;
                     work.cost[xi] = ocost[xi];
-                    // Every unit fired costs more than each input (checked): no input's
-                    // depth counts.
-                    work.depth[xi] = 0;
+                    work.depth[xi] = opt.depth[xi];
                 }
                 if !ocost[xi].is_finite() {
                     left += 1;
@@ -631,12 +682,8 @@ impl Local {
             let fx = work.fixed[y as usize];
             (fx == NONE || fx == f) && !(work.banned[y as usize] && c.banned.contains(&(y, f)))
         };
-        let fire = |f: u32, work: &mut Work| -> bool {
+        let fire = |f: u32, work: &mut Work| {
             let (cost, d) = work.value(w[f as usize], &self.needed[f as usize]);
-            let mut top = f64::NEG_INFINITY;
-            for &x in &self.needed[f as usize] {
-                top = top.max(work.cost[x as usize]);
-            }
             for &y in &self.outs[f as usize] {
                 let yi = y as usize;
                 if work.stamp[yi] != e || work.done[yi] || !allowed(work, y, f) {
@@ -644,12 +691,10 @@ impl Local {
                 }
                 work.offer(y, f, cost, d);
             }
-            !cost.is_finite() || cost > top
         };
-        let mut ok = true;
         for &f in units.iter() {
             if work.left[f as usize] == 0 {
-                ok &= fire(f, work);
+                fire(f, work);
             }
         }
         while let Some(Entry {
@@ -659,9 +704,6 @@ impl Local {
         }) = work.heap.pop()
         {
             let oi = o as usize;
-            if !ok {
-                break;
-            }
             if work.done[oi] || optimal::lower(work.cost[oi], work.depth[oi], cost, depth) {
                 continue;
             }
@@ -676,7 +718,7 @@ impl Local {
                 let l = &mut work.left[f as usize];
                 *l -= 1;
                 if *l == 0 {
-                    ok &= fire(f, work);
+                    fire(f, work);
                 }
             }
         }
@@ -686,7 +728,6 @@ impl Local {
         for &(o, _) in &c.banned {
             work.banned[o as usize] = false;
         }
-        ok
     }
 
     /// The tree of the choices from the goal: (pre-order objects with their choices, units in
@@ -739,12 +780,9 @@ impl Local {
     }
 
     /// `Context::metrics` of a tree of this graph (`preorder`: its objects with their local
-    /// choices; `units`: its units, global ids, in execution order), over the local ids: the
-    /// height is the least fixpoint of the ranks of the objects the units make from the
-    /// kitchen (an object's rank is one more than the largest rank of the needed inputs of the
-    /// first unit to make it, breadth first), which only the ancestry's objects take part in
-    /// for the goal (every needed input of a unit of the ancestry is in it); the leaf inputs
-    /// are the distinct kitchen objects the units need.
+    /// choices; `units`: its units, global ids, in execution order): the rule of
+    /// `evaluate::shape` over the local ids, in time linear in the tree (every needed input of
+    /// a unit of the ancestry is in it, and so is every output another unit of it can need).
     fn metrics(
         &self,
         ctx: &Context<'_>,
@@ -752,92 +790,13 @@ impl Local {
         units: &[u32],
         m: &mut MetricsScratch,
     ) -> TreeMetrics {
-        let MetricsScratch {
-            us,
-            left,
-            rank,
-            head,
-            slots,
-            queue,
-        } = m;
+        let MetricsScratch { us, marks, buf } = m;
         us.clear();
         us.extend(preorder.iter().map(|&(_, f)| f));
         us.sort_unstable();
         us.dedup();
-        left.clear();
-        left.resize(us.len(), 0);
-        // Per object: its rank (0 marks a kitchen object counted), and the first of the
-        // needed slots waiting for it (a linked list through `slots`: unit, next).
-        rank.clear();
-        rank.resize(self.objs.len(), NONE);
-        head.clear();
-        head.resize(self.objs.len(), NONE);
-        slots.clear();
-        queue.clear();
-        let mut leaves = 0;
-        for (i, &f) in us.iter().enumerate() {
-            for &x in &self.needed[f as usize] {
-                let xi = x as usize;
-                if !self.leaf[xi] {
-                    left[i] += 1;
-                    slots.push((i as u32, head[xi]));
-                    head[xi] = slots.len() as u32 - 1;
-                } else if rank[xi] == NONE {
-                    rank[xi] = 0;
-                    leaves += 1;
-                }
-            }
-        }
-        // First in, first out: `queue[next..]` is still to be read.
-        let fire = |f: u32, r: u32, rank: &mut [u32], queue: &mut Vec<(u32, u32)>| {
-            for &y in &self.outs[f as usize] {
-                if rank[y as usize] == NONE {
-                    rank[y as usize] = r;
-                    queue.push((y, r));
-                }
-            }
-        };
-        for (i, &f) in us.iter().enumerate() {
-            if left[i] == 0 {
-                fire(f, 1, rank, queue);
-            }
-        }
-        let mut next = 0;
-        while let Some(&(o, r)) = queue.get(next) {
-            next += 1;
-            let mut slot = head[o as usize];
-            while slot != NONE {
-                let (i, after) = slots[slot as usize];
-                left[i as usize] -= 1;
-                if left[i as usize] == 0 {
-                    fire(us[i as usize], r + 1, rank, queue);
-                }
-                slot = after;
-            }
-        }
-        let height = match rank[self.goal as usize] {
-            NONE => None,
-            r => Some(r),
-        };
-        let unrated = if ctx.rates_given() {
-            units
-                .iter()
-                .copied()
-                .find(|&f| ctx.fu_rates().get(f as usize).is_none_or(|r| r.is_nan()))
-        } else {
-            None
-        };
-        let success = (ctx.rates_given() && unrated.is_none()).then(|| {
-            units
-                .iter()
-                .fold(1.0, |acc, &f| acc * ctx.fu_rates()[f as usize])
-        });
-        TreeMetrics {
-            height,
-            success,
-            unrated,
-            leaf_inputs: leaves,
-        }
+        let marks = marks.get_or_insert_with(|| StampedMarks::new(self.objs.len()));
+        evaluate::tree_metrics(self, ctx, units, us, self.goal, marks, buf)
     }
 
     /// The cost of a tree under the weights `w`, by the definition (a shared sub-goal counts
@@ -878,15 +837,30 @@ impl Local {
     }
 }
 
-/// Buffers of `Local::metrics`, kept between trees.
+/// Buffers of `Local::metrics`, kept between trees (the marks over the local objects, once
+/// the graph is known).
 #[derive(Default)]
 struct MetricsScratch {
     us: Vec<u32>,
-    left: Vec<u32>,
-    rank: Vec<u32>,
-    head: Vec<u32>,
-    slots: Vec<(u32, u32)>,
-    queue: Vec<(u32, u32)>,
+    marks: Option<StampedMarks>,
+    buf: ShapeBuf,
+}
+
+impl TreeView for Local {
+    #[inline]
+    fn needed(&self, f: u32) -> &[u32] {
+        &self.needed[f as usize]
+    }
+    #[inline]
+    fn for_made(&self, f: u32, mut each: impl FnMut(u32)) {
+        for &y in &self.outs[f as usize] {
+            each(y);
+        }
+    }
+    #[inline]
+    fn in_kitchen(&self, o: u32) -> bool {
+        self.leaf[o as usize]
+    }
 }
 
 /// Stamped marks of `Local::read` (objects seen, units emitted) and its stack, kept between
@@ -999,9 +973,11 @@ impl PartialOrd for Item {
 /// Every tree of the local graph under the weights `w`, in (cost, partition order), each set of
 /// units once.
 struct Partition {
-    w: Vec<f64>,
-    /// Every object's cost over the whole ancestry under `w`: a lower bound in every subspace.
-    lb: Vec<f64>,
+    /// The weights, `None` for the graph's own.
+    w: Option<Vec<f64>>,
+    /// Every object's cost over the whole ancestry under the weights: a lower bound in every
+    /// subspace; `None` for the kitchen's optimum.
+    lb: Option<Vec<f64>>,
     heap: BinaryHeap<Item>,
     /// Subspaces listed (popped solved) so far, and those whose children may be in the heap.
     popped: u64,
@@ -1020,12 +996,15 @@ struct Partition {
 }
 
 impl Partition {
-    fn new(g: &Local, w: Vec<f64>, seeded: bool) -> Self {
-        let seeded = seeded && g.opt.is_some();
+    /// The partition under the weights `w` (`None`: the graph's own, and then the subspaces
+    /// are solved from the kitchen's optimum when it is known).
+    fn new(g: &Local, w: Option<Vec<f64>>) -> Self {
+        let seeded = w.is_none() && g.opt.is_some();
         let mut work = Work::new(g);
-        let lb = match &g.opt {
-            Some((cost, _)) if seeded => cost.clone(),
-            _ => g.costs(&w, &mut work),
+        let lb = if seeded {
+            None
+        } else {
+            Some(g.costs(w.as_deref().unwrap_or(&g.weight), &mut work))
         };
         let mut p = Self {
             w,
@@ -1103,7 +1082,13 @@ impl Partition {
         parent: u32,
     ) {
         let b = &mut self.bounds;
-        let (w, lb) = (&self.w, &self.lb);
+        let w = self.w.as_deref().unwrap_or(&g.weight);
+        let lb = match (&self.lb, &g.opt) {
+            (Some(lb), _) => lb,
+            (None, Some(opt)) => &opt.cost,
+            // Not reached: a partition without bounds of its own is seeded.
+            (None, None) => return,
+        };
         let no = g.objs.len();
         if b.stamp.len() != no {
             b.stamp = vec![0; no];
@@ -1305,15 +1290,16 @@ impl Partition {
                     self.solved += 1;
                     ctx.check_stop()?;
                     let c = self.constraints(parent, at);
+                    let w = self.w.as_deref().unwrap_or(&g.weight);
                     let s = if self.seeded {
-                        g.solve_seeded(&self.w, &c, &mut self.work, &mut self.scratch)
+                        g.solve_seeded(w, &c, &mut self.work, &mut self.scratch)
                     } else {
                         Seeded::Full
                     };
                     let s = match s {
                         Seeded::Tree(s) => Some(s),
                         Seeded::Empty => None,
-                        Seeded::Full => g.solve(&self.w, &c, &mut self.work, &mut self.scratch),
+                        Seeded::Full => g.solve(w, &c, &mut self.work, &mut self.scratch),
                     };
                     if let Some(s) = s {
                         self.heap.push(Item {
@@ -1364,7 +1350,7 @@ pub struct KBest {
     method: Method,
     /// `None` when the goal is in the kitchen (one tree, empty) or has no tree, or until the
     /// second tree when the first is read from the kitchen's optimum.
-    graph: Option<Local>,
+    graph: Option<Arc<Local>>,
     part: Option<Partition>,
     /// The goal in the kitchen: the empty tree is still to be given.
     trivial: bool,
@@ -1391,8 +1377,9 @@ pub fn diverse_penalty(method: Method) -> f64 {
 
 impl KBest {
     /// Prepares the enumeration; no tree is computed yet. With the kitchen's optimum known,
-    /// the first tree is read from it (and an underivable goal answers at once); the goal's
-    /// ancestry is built only for a second tree.
+    /// an underivable goal answers at once, and the first tree is read from the optimum: over
+    /// the goal's ancestry when the kitchen keeps it already (`AncestryCache`), else as
+    /// the optimal plan reads it, the ancestry being built (and kept) only for a second tree.
     pub fn new(ctx: &Context<'_>, goal: u32, method: Method, diverse: bool) -> Result<Self> {
         if goal as usize >= ctx.foon.object_count() {
             return Err(Error::Invalid(format!("object {goal} is out of range")));
@@ -1405,14 +1392,18 @@ impl KBest {
             None
         } else if let Some(o) = prepared(ctx, method)? {
             // No tree when the optimum is infinite (or the goal not derivable).
-            pending = o.cost[goal as usize].is_finite();
-            None
+            if !o.cost[goal as usize].is_finite() {
+                None
+            } else if let Some(g) = AncestryCache::get(ctx, goal, method) {
+                Some(g)
+            } else {
+                pending = true;
+                None
+            }
         } else {
-            Some(Local::new(ctx, goal, method)?)
+            Some(AncestryCache::local(ctx, goal, method)?)
         };
-        let part = graph
-            .as_ref()
-            .map(|g| Partition::new(g, g.weight.clone(), true));
+        let part = graph.as_deref().map(|g| Partition::new(g, None));
         let uses = graph.as_ref().map_or(Vec::new(), |g| vec![0; g.fus.len()]);
         Ok(Self {
             goal,
@@ -1447,7 +1438,7 @@ impl KBest {
     /// Diverse mode: counts the uses of a listed tree's units and restarts the partition
     /// under the penalised weights.
     fn penalise(&mut self, units: &[u32]) {
-        let (Some(g), Some(part)) = (&self.graph, &mut self.part) else {
+        let (Some(g), Some(part)) = (self.graph.as_deref(), &mut self.part) else {
             return;
         };
         for f in units {
@@ -1463,7 +1454,7 @@ impl KBest {
             .map(|(&w, &u)| w + penalty * f64::from(u))
             .collect();
         self.evaluations += part.solved;
-        *part = Partition::new(g, w, false);
+        *part = Partition::new(g, Some(w));
     }
 
     /// The next tree, or `None` when there is none left.
@@ -1496,9 +1487,9 @@ impl KBest {
             }
         }
         if let Some(first) = self.given.take() {
-            let g = Local::new(ctx, self.goal, self.method)?;
+            let g = AncestryCache::local(ctx, self.goal, self.method)?;
             self.uses = vec![0; g.fus.len()];
-            let mut part = Partition::new(&g, g.weight.clone(), true);
+            let mut part = Partition::new(&g, None);
             if !self.diverse {
                 // The root subspace again (its tree is the one given): listed, its children
                 // pushed.
@@ -1515,7 +1506,7 @@ impl KBest {
                 self.penalise(&first);
             }
         }
-        let (Some(g), Some(part)) = (&self.graph, &mut self.part) else {
+        let (Some(g), Some(part)) = (self.graph.as_deref(), &mut self.part) else {
             return Ok(None);
         };
         let Some(s) = (if self.diverse {
@@ -1535,13 +1526,15 @@ impl KBest {
             return Ok(None);
         };
         let metrics = Some(g.metrics(ctx, &s.preorder, &s.units, &mut self.scratch));
-        let cost = if self.diverse {
-            let cost = g.tree_cost(&g.weight, &s.preorder);
-            self.penalise(&s.units);
-            cost
+        // Under the penalised weights, the cost of the tree's assignment under the plain ones.
+        let cost = if part.w.is_some() {
+            g.tree_cost(&g.weight, &s.preorder)
         } else {
             s.cost
         };
+        if self.diverse {
+            self.penalise(&s.units);
+        }
         Ok(Some(Ranked {
             units: s.units,
             cost: self.reported(cost),
