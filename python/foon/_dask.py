@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from foon import Foon, MotionRates
     from foon._kitchens import KitchenSet
 
-__all__ = ["FoonPlugin", "plan_chunk", "run"]
+__all__ = ["LOCAL_CLUSTER_CONFIG", "FoonPlugin", "local_cluster", "plan_chunk", "run"]
 
 #: Tasks in flight per worker thread: one planning, one queued behind it so that the
 #: worker never waits for the client.
@@ -38,6 +38,33 @@ IN_FLIGHT_PER_THREAD = 2
 #: How many times a task is retried when it fails (on top of the scheduler's own reruns of
 #: the tasks of a worker that died).
 RETRIES = 2
+
+
+#: The Dask settings of the local cluster that the engine starts when it is given neither a
+#: client nor a scheduler (:func:`local_cluster`): Dask's statistical profiler of the
+#: workers off, and its event-loop tick and system monitor at 500 ms and 5 s instead of
+#: 20 ms and 500 ms. An idle two-worker cluster then costs about a quarter of the CPU time
+#: (the workers plan in a native call that shows nothing to a Python profiler).
+LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.admin.system-monitor.interval": "5s",
+}
+
+
+def local_cluster(n_workers: int | None = None) -> Any:
+    """A ``LocalCluster`` of ``n_workers`` (default: one per core) single-threaded worker
+    processes, with :data:`LOCAL_CLUSTER_CONFIG`."""
+    import dask
+    from distributed import LocalCluster
+
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        return LocalCluster(  # type: ignore[no-untyped-call]
+            n_workers=n_workers or os.cpu_count() or 1,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+        )
 
 
 def _to_ipc(table: pa.Table) -> bytes:
@@ -185,7 +212,7 @@ def run(
     local cluster of one single-threaded worker process per core) into partitions of the
     folder ``out`` and calls ``record(k, entry)`` once per chunk with its manifest entry,
     as the tasks complete."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     path = foon.index_path
     if path is None:
@@ -196,12 +223,7 @@ def run(
             if scheduler is not None:
                 client = Client(scheduler)  # type: ignore[no-untyped-call]
             else:
-                cluster = LocalCluster(  # type: ignore[no-untyped-call]
-                    n_workers=os.cpu_count() or 1,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                )
+                cluster = local_cluster()
                 own.append(cluster)
                 client = Client(cluster)  # type: ignore[no-untyped-call]
             own.insert(0, client)
