@@ -113,6 +113,27 @@ def noop(x: int) -> int:
     return x
 
 
+def spin(_: int) -> float:
+    """A fixed pure-CPU loop (no memory traffic), about a second."""
+    x = 0
+    for i in range(10_000_000):
+        x ^= i
+    return float(x)
+
+
+def spin_wall(processes: int) -> float:
+    """The wall time of ``processes`` processes each running :func:`spin` at once: the
+    control for how much of the cores this run gets (on a shared machine, a scheduler that
+    shares the cores between sessions may give 2 processes no more than 1)."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(processes) as ex:
+        list(ex.map(noop, range(processes)))  # started before the clock
+        t0 = time.perf_counter()
+        list(ex.map(spin, range(processes)))
+        return time.perf_counter() - t0
+
+
 def cpu_seconds() -> float:
     r = resource.getrusage(resource.RUSAGE_SELF)
     return r.ru_utime + r.ru_stime
@@ -202,7 +223,10 @@ def main() -> None:
             configs[f"dask-1-{c}"] = ("dask", 1, c)
             configs[f"local-1-{c}"] = ("local", 1, c)
     runs: dict[str, list[dict[str, float]]] = {tag: [] for tag in configs}
+    spins: dict[int, list[float]] = {1: [], 2: []}
     for r in range(args.repeat):
+        for p in (1, 2):
+            spins[p].append(spin_wall(p))
         for tag, (kind, n, c) in configs.items():
             out = outs / tag
             if kind == "local":
@@ -257,6 +281,13 @@ def main() -> None:
               f"{ratio} | {fmt_s(cpu['client'])} | {fmt_s(cpu['workers']) if cpu['workers'] else '-'} | "
               f"{(cpu['client'] + cpu['workers']) / count * 1e6:.1f} µs |")  # fmt: skip
     print("\nCPU columns: the run with the least total CPU time.")
+    ratios = sorted(2 * a / b for a, b in zip(spins[1], spins[2], strict=True))
+    print(
+        f"\nMachine check (once per round): the throughput of a pure-CPU loop in 2 "
+        f"processes against 1 was {ratios[-1]:.2f}x at best "
+        f"({', '.join(f'{x:.2f}x' for x in ratios)}; 2.00x on two free cores). Two workers "
+        f"cannot beat one by more than the machine gives two processes."
+    )
     print("\n#### Dask per-task overhead against chunk size (1 worker against local 1 thread)\n")
     print("| chunk | tasks | Dask 1 worker | local 1 thread | overhead per task | overhead "
           "share (wall) | overhead share (CPU, all processes) |")  # fmt: skip

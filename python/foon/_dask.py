@@ -43,7 +43,7 @@ RETRIES = 2
 #: The Dask settings of the local cluster that the engine starts when it is given neither a
 #: client nor a scheduler (:func:`local_cluster`): Dask's statistical profiler of the
 #: workers off, and its event-loop tick and system monitor at 500 ms and 5 s instead of
-#: 20 ms and 500 ms. An idle two-worker cluster then costs about a quarter of the CPU time
+#: 20 ms and 500 ms. An idle two-worker cluster then costs about a third of the CPU time
 #: (the workers plan in a native call that shows nothing to a Python profiler).
 LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
     "distributed.worker.profile.enabled": False,
