@@ -5,11 +5,13 @@ The queries are read as a stream (Parquet by record batches, CSV by
 into chunks of ``chunk_size`` rows: partition ``k`` holds the answers to rows
 ``k * chunk_size`` to ``(k + 1) * chunk_size - 1``, in order, planned by
 :func:`foon._arrow.plan_table` (locally, or on Dask workers, :mod:`foon._dask`). Each
-partition is written atomically (a temporary file in the output folder, then a rename), and
-``_manifest.json`` (written the same way after each partition) records the inputs'
-fingerprints and every finished partition with its row count and SHA-256, so that a rerun
-with the same inputs plans only the partitions that are missing. The layout, the manifest
-and the resume rules are in ``docs/BATCH.md`` ("Output and resume").
+partition is written atomically (a temporary file in the output folder, then a rename; by
+the client, or by the Dask worker that planned it), and ``_manifest.json`` (written the same
+way by the client alone, at most once a second while partitions come in, and at the end)
+records the inputs' fingerprints and every finished partition with its row count and
+SHA-256, so that a rerun with the same inputs plans only the partitions that are missing.
+The layout, the manifest and the resume rules are in ``docs/BATCH.md`` ("Output and
+resume").
 
 The input file is read twice: once to check it (columns, types, every row parsed; a bad
 file is an error before any output) and count its rows, once to plan. Memory holds a few
