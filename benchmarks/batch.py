@@ -139,6 +139,13 @@ def cpu_seconds() -> float:
     return r.ru_utime + r.ru_stime
 
 
+def warm() -> None:
+    """What a worker imports to plan and write (a local run imports it before its clock)."""
+    import foon._arrow
+    import foon._batch  # noqa: F401
+    import pyarrow.parquet  # noqa: F401
+
+
 def one_local(argv: list[str]) -> None:
     """`--one-local INDEX KITCHENS QUERIES OUT THREADS CHUNK`: one local run in this fresh
     process; prints its wall and CPU seconds as JSON."""
@@ -168,6 +175,7 @@ def run_dask(f: Any, ks: Any, queries: Path, out: Path, client: Any, workers: in
              ) -> dict[str, float]:  # fmt: skip
     client.restart()
     client.wait_for_workers(workers)
+    client.run(warm)  # the imports, before the clock as for a local run
     w0 = client.run(cpu_seconds)
     c0, t0 = cpu_seconds(), time.perf_counter()
     foon.batch(queries, foon=f, kitchens=ks, out=out, resume=False, engine="dask",
