@@ -17,7 +17,7 @@ with `foon.batch` into its own folder (`resume=False`), best of `--repeat` round
 configurations taking turns (one run of each per round, so that the machine's load falls on
 all alike). Every run starts cold, as a new `foon batch` does: a local run in a fresh
 process (the index and kitchen set loaded before the clock starts), a Dask run after
-`Client.restart()` (new worker processes), so that no run finds kitchens prepared by an
+a new local cluster (new worker processes), so that no run finds kitchens prepared by an
 earlier one in the process's cache. The time is the whole call (reading and checking the
 file, planning, writing and hashing the partitions, recording the manifest). Every run gives
 the same partitions (checked).
@@ -171,17 +171,20 @@ def run_local(index: Path, kset: Path, queries: Path, out: Path, threads: int, c
     return r
 
 
-def run_dask(f: Any, ks: Any, queries: Path, out: Path, client: Any, workers: int, chunk: int
+def run_dask(f: Any, ks: Any, queries: Path, out: Path, workers: int, chunk: int
              ) -> dict[str, float]:  # fmt: skip
-    client.restart()
-    client.wait_for_workers(workers)
-    client.run(warm)  # the imports, before the clock as for a local run
-    w0 = client.run(cpu_seconds)
-    c0, t0 = cpu_seconds(), time.perf_counter()
-    foon.batch(queries, foon=f, kitchens=ks, out=out, resume=False, engine="dask",
-               client=client, chunk_size=chunk)  # fmt: skip
-    wall, cpu = time.perf_counter() - t0, cpu_seconds() - c0
-    w1 = client.run(cpu_seconds)
+    from distributed import Client
+    from foon._dask import local_cluster
+
+    with local_cluster(workers) as cluster, Client(cluster) as client:
+        client.wait_for_workers(workers)
+        client.run(warm)  # the imports, before the clock as for a local run
+        w0 = client.run(cpu_seconds)
+        c0, t0 = cpu_seconds(), time.perf_counter()
+        foon.batch(queries, foon=f, kitchens=ks, out=out, resume=False, engine="dask",
+                   client=client, chunk_size=chunk)  # fmt: skip
+        wall, cpu = time.perf_counter() - t0, cpu_seconds() - c0
+        w1 = client.run(cpu_seconds)
     per = [w1[a] - w0.get(a, 0.0) for a in w1]
     return {"wall": wall, "client": cpu, "workers": sum(per), "busiest": max(per)}
 
@@ -217,10 +220,6 @@ def main() -> None:
     want: pa.Table | None = None
 
     sizes = [int(x) for x in args.sweep.split(",") if x]
-    c1, c2 = local_cluster(1), local_cluster(2)
-    client1, client2 = Client(c1), Client(c2)
-    client1.wait_for_workers(1)
-    client2.wait_for_workers(2)
     # (kind, workers or threads, chunk): the main four, then the sweep's pairs.
     configs: dict[str, tuple[str, int, int]] = {
         "local-1": ("local", 1, chunk),
@@ -242,7 +241,7 @@ def main() -> None:
             if kind == "local":
                 m = run_local(index, kset, queries, out, n, c)
             else:
-                m = run_dask(f, ks, queries, out, client1 if n == 1 else client2, n, c)
+                m = run_dask(f, ks, queries, out, n, c)
             got = pq.read_table(out)
             if want is None:
                 want = got
@@ -262,11 +261,11 @@ def main() -> None:
         return f"{fmt_s(min(walls))} to {fmt_s(max(walls))}"
 
     n_noop = 2000
-    t0 = time.perf_counter()
-    client2.gather(client2.map(noop, range(n_noop), pure=False))
-    noop_rate = n_noop / (time.perf_counter() - t0)
-    for x in (client1, client2, c1, c2):
-        x.close()
+    with local_cluster(2) as c2, Client(c2) as client2:
+        client2.wait_for_workers(2)
+        t0 = time.perf_counter()
+        client2.gather(client2.map(noop, range(n_noop), pure=False))
+        noop_rate = n_noop / (time.perf_counter() - t0)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
     units = parse_size(args.units)
