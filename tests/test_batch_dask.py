@@ -1,9 +1,13 @@
 """``foon.batch`` on a real two-worker ``LocalCluster`` (processes): the same answers as the
-local engine, the index opened once per worker, and a worker killed in the middle of a
-batch costs nothing: every query answered exactly once, the results equal a local run's."""
+local engine, the index opened once per worker, the workers writing the partitions when
+they see the output folder (and the client when they do not), and a worker killed in the
+middle of a batch costs nothing: every query answered exactly once, no partition left half
+written, the results equal a local run's."""
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
 import signal
 import time
@@ -17,7 +21,7 @@ distributed = pytest.importorskip("distributed")
 
 import foon
 from batch_files import Data, read_parts
-from foon import _arrow
+from foon import _arrow, _batch, _dask
 from foon._dask import FoonPlugin
 
 
@@ -43,12 +47,24 @@ def client() -> Any:
     cluster.close()
 
 
-def _opens(dask_worker: Any) -> list[int]:
-    return [p.opens for p in dask_worker.plugins.values() if isinstance(p, FoonPlugin)]
+def _opens(dask_worker: Any) -> list[tuple[int, bool]]:
+    return [(p.opens, p.writes) for p in dask_worker.plugins.values()
+            if isinstance(p, FoonPlugin)]  # fmt: skip
+
+
+def _check_folder(out: Path, partitions: int) -> None:
+    """The folder holds the manifest and the partitions, no temporary file; every partition
+    has the SHA-256 the manifest records."""
+    m = json.loads((out / _batch.MANIFEST).read_text())
+    names = [_batch.part_name(k) for k in range(partitions)]
+    assert sorted(os.listdir(out)) == [_batch.MANIFEST, *names]
+    assert [e["file"] for e in m["partitions"].values()] == names
+    for e in m["partitions"].values():
+        assert hashlib.sha256((out / e["file"]).read_bytes()).hexdigest() == e["sha256"]
 
 
 def test_dask_equals_local(data: Data, whole: Any, client: Any, tmp_path: Path) -> None:
-    opens: list[dict[str, list[int]]] = []
+    opens: list[dict[str, list[tuple[int, bool]]]] = []
 
     def progress(done: int, total: int) -> None:
         if not opens:
@@ -60,14 +76,38 @@ def test_dask_equals_local(data: Data, whole: Any, client: Any, tmp_path: Path) 
     )  # fmt: skip
     assert read_parts(tmp_path / "o").equals(whole)
     assert (s.queries, s.partitions, s.planned_partitions, s.engine) == (1200, 12, 12, "dask")
-    # Each worker opened the index once, whatever the number of tasks.
-    assert sorted(opens[0].values()) == [[1], [1]]
-    # The plugin is gone once the batch is done.
+    # Each worker opened the index once, whatever the number of tasks, and writes the
+    # partitions itself (it sees the output folder).
+    assert sorted(opens[0].values()) == [[(1, True)], [(1, True)]]
+    # The plugin is gone once the batch is done, and so is the probe file.
     assert all(v == [] for v in client.run(_opens).values())
+    _check_folder(tmp_path / "o", 12)
     # The local engine, resuming the same output, finds nothing to do.
     s = foon.batch(data.csv, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o",
                    chunk_size=100, motions=data.motions)  # fmt: skip
     assert s.planned_partitions == 0 and s.kept_partitions == 12
+
+
+def test_workers_that_do_not_see_the_folder_send_their_answers(
+    data: Data, whole: Any, client: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A probe that the workers do not find (as on machines without the client's folder):
+    # the workers send their answers and the client writes the partitions.
+    monkeypatch.setattr(_dask, "_make_probe", lambda out, token: ".no-such-probe.tmp")
+    opens: list[dict[str, list[tuple[int, bool]]]] = []
+
+    def progress(done: int, total: int) -> None:
+        if not opens:
+            opens.append(client.run(_opens))
+
+    s = foon.batch(
+        data.jsonl, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o",
+        engine="dask", client=client, chunk_size=300, motions=data.motions, progress=progress,
+    )  # fmt: skip
+    assert sorted(opens[0].values()) == [[(1, False)], [(1, False)]]
+    assert read_parts(tmp_path / "o").equals(whole)
+    assert (s.partitions, s.planned_partitions) == (4, 4)
+    _check_folder(tmp_path / "o", 4)
 
 
 def _alive(pid: int) -> bool:
@@ -86,6 +126,9 @@ def test_a_killed_worker_loses_no_query(data: Data, whole: Any, client: Any, tmp
 
     def progress(done: int, total: int) -> None:
         written.append(done)
+        if done == 100:
+            # What a worker killed while writing leaves: a temporary file, removed at the end.
+            (tmp_path / "o" / ".part-00059.parquet.dead.tmp").write_bytes(b"PAR1 half")
         if killed or done < 200:
             return
         # Once some but not all partitions are written, kill the worker holding the most of
@@ -116,4 +159,5 @@ def test_a_killed_worker_loses_no_query(data: Data, whole: Any, client: Any, tmp
     # Each partition written once: one progress call per partition.
     assert len(written) == s.partitions == 60 and written[-1] == 1200
     assert s.planned_partitions == 60
+    _check_folder(tmp_path / "o", 60)
     client.wait_for_workers(2, timeout=30)  # the nanny restarts the killed worker

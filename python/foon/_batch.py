@@ -5,11 +5,13 @@ The queries are read as a stream (Parquet by record batches, CSV by
 into chunks of ``chunk_size`` rows: partition ``k`` holds the answers to rows
 ``k * chunk_size`` to ``(k + 1) * chunk_size - 1``, in order, planned by
 :func:`foon._arrow.plan_table` (locally, or on Dask workers, :mod:`foon._dask`). Each
-partition is written atomically (a temporary file in the output folder, then a rename), and
-``_manifest.json`` (written the same way after each partition) records the inputs'
-fingerprints and every finished partition with its row count and SHA-256, so that a rerun
-with the same inputs plans only the partitions that are missing. The layout, the manifest
-and the resume rules are in ``docs/BATCH.md`` ("Output and resume").
+partition is written atomically (a temporary file in the output folder, then a rename; by
+the client, or by the Dask worker that planned it), and ``_manifest.json`` (written the same
+way by the client alone, at most once a second while partitions come in, and at the end)
+records the inputs' fingerprints and every finished partition with its row count and
+SHA-256, so that a rerun with the same inputs plans only the partitions that are missing.
+The layout, the manifest and the resume rules are in ``docs/BATCH.md`` ("Output and
+resume").
 
 The input file is read twice: once to check it (columns, types, every row parsed; a bad
 file is an error before any output) and count its rows, once to plan. Memory holds a few
@@ -46,6 +48,12 @@ DEFAULT_CHUNK_SIZE = 20_000
 #: The manifest's file name in the output folder, and its format tag.
 MANIFEST = "_manifest.json"
 _FORMAT = "foon-batch/1"
+
+#: Seconds between two rewrites of the manifest while partitions are being recorded (it is
+#: always written at the end, and when the run fails or is interrupted): a client killed
+#: outright leaves a manifest that lists the partitions of all but its last second, whose
+#: files a rerun plans again.
+MANIFEST_INTERVAL = 1.0
 
 #: Rows per block when reading JSON lines.
 _JSON_BLOCK = 16_384
@@ -403,20 +411,25 @@ def _settings_fingerprint(motions: Any, utensils: Any, default_rate: float | Non
     return hashlib.blake2b(text.encode(), digest_size=16).hexdigest()
 
 
-def _write_atomic(folder: str, name: str, write: Callable[[str], None]) -> None:
+def _write_atomic(folder: str, name: str, write: Callable[[str], None], *, hash: bool = False
+                  ) -> str | None:  # fmt: skip
     """Writes ``folder/name`` through a temporary file in ``folder`` and a rename: a reader
-    sees the old file or the whole new one, never a part."""
+    sees the old file or the whole new one, never a part. With ``hash``, returns the SHA-256
+    of the bytes written (read back from the temporary file before the rename: this write's
+    bytes, whatever another writer of the same name does)."""
     fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
     os.close(fd)
     try:
         write(tmp)
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
+        digest = _sha256(tmp) if hash else None
         os.replace(tmp, os.path.join(folder, name))
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+    return digest
 
 
 def _write_json(folder: str, name: str, data: dict[str, Any]) -> None:
@@ -430,6 +443,26 @@ def _write_json(folder: str, name: str, data: dict[str, Any]) -> None:
 
 def part_name(k: int) -> str:
     return f"part-{k:05d}.parquet"
+
+
+def write_partition(folder: str, k: int, table: pa.Table) -> dict[str, Any]:
+    """Writes the results of chunk ``k`` atomically as ``folder/part-k.parquet`` and returns
+    its manifest entry (file, rows, SHA-256 of the bytes written, solved rows, failures by
+    code). Called by the client, or by a Dask worker that sees the output folder; the
+    results of a chunk are the same bytes whoever writes them, so a task run twice (after
+    a worker died) replaces the file with itself."""
+    import pyarrow.parquet as pq
+
+    name = part_name(k)
+    digest = _write_atomic(folder, name, lambda tmp: pq.write_table(table, tmp), hash=True)
+    solved, failures = _count(table)
+    return {
+        "file": name,
+        "rows": table.num_rows,
+        "sha256": digest,
+        "solved": solved,
+        "failures": failures,
+    }
 
 
 def _is_ours(name: str) -> bool:
@@ -645,57 +678,66 @@ def batch(
         bar(done, total)
 
     planned = [0, 0]
+    saved = [time.monotonic(), False]  # when the manifest was last written; entries since
 
-    def write(k: int, table: pa.Table) -> None:
+    def save(force: bool) -> None:
+        now = time.monotonic()
+        if saved[1] and (force or now - saved[0] >= MANIFEST_INTERVAL):
+            _write_json(opath, MANIFEST, manifest)
+            saved[0], saved[1] = now, False
+
+    def record(k: int, entry: dict[str, Any]) -> None:
+        """Partition ``k`` is written (``entry``, its manifest entry): counted once."""
         nonlocal done
-        import pyarrow.parquet as pq
-
         key = f"{k:05d}"
         if key in manifest["partitions"]:
-            return  # written already (a task run twice after a worker died)
-        name = part_name(k)
-        _write_atomic(opath, name, lambda tmp: pq.write_table(table, tmp))
-        solved, failures = _count(table)
-        manifest["partitions"][key] = {
-            "file": name,
-            "rows": table.num_rows,
-            "sha256": _sha256(os.path.join(opath, name)),
-            "solved": solved,
-            "failures": failures,
-        }
+            return  # recorded already (a task run twice after a worker died)
+        manifest["partitions"][key] = entry
         manifest["partitions"] = dict(sorted(manifest["partitions"].items()))
-        _write_json(opath, MANIFEST, manifest)
-        done += table.num_rows
+        saved[1] = True
+        save(False)
+        done += int(entry["rows"])
         planned[0] += 1
-        planned[1] += table.num_rows
+        planned[1] += int(entry["rows"])
         if report is not None:
             report(done, total)
 
     todo = ((k, t) for k, t in chunks(qpath, chunk_size) if f"{k:05d}" not in kept)
     t0 = time.perf_counter()
-    if engine == "local":
-        for k, t in todo:
-            res = _arrow.plan_table(f, ks, t, threads=threads, motions=rates, utensils=tools,
-                                    default_rate=default_rate)  # fmt: skip
-            write(k, res)
-    else:
-        from foon import _dask
+    try:
+        if engine == "local":
+            for k, t in todo:
+                res = _arrow.plan_table(f, ks, t, threads=threads, motions=rates,
+                                        utensils=tools, default_rate=default_rate)  # fmt: skip
+                record(k, write_partition(opath, k, res))
+        else:
+            from foon import _dask
 
-        _dask.run(
-            todo,
-            write,
-            foon=f,
-            kitchens=ks,
-            client=client,
-            scheduler=scheduler,
-            threads=threads,
-            motions=rates,
-            utensils=tools,
-            default_rate=default_rate,
-            token=hashlib.blake2b(
-                json.dumps(inputs, sort_keys=True).encode(), digest_size=8
-            ).hexdigest(),
-        )
+            _dask.run(
+                todo,
+                record,
+                out=opath,
+                foon=f,
+                kitchens=ks,
+                client=client,
+                scheduler=scheduler,
+                threads=threads,
+                motions=rates,
+                utensils=tools,
+                default_rate=default_rate,
+                token=hashlib.blake2b(
+                    json.dumps(inputs, sort_keys=True).encode(), digest_size=8
+                ).hexdigest(),
+            )
+    except BaseException:
+        # An interrupted or failed run: the manifest lists every partition recorded so far.
+        with contextlib.suppress(Exception):
+            save(True)
+        raise
+    save(True)
+    # Temporary files of writers that died (a killed worker) are removed; the partitions
+    # are all whole and recorded.
+    _clean(opath, everything=False)
     seconds = time.perf_counter() - t0
     if bar is not None:
         bar(done, total, True)

@@ -4,16 +4,20 @@
 Each worker opens the ``.foonidx`` once, through a worker plugin (:class:`FoonPlugin`,
 ``foon.load`` of the index path, its fingerprint checked against the client's), and holds
 the kitchen set, shipped once per worker as its bytes. A task carries only its chunk of
-queries (Arrow IPC bytes) and returns its answers the same way; the client writes each
-partition as its task completes, with a bounded number of tasks in flight. A worker that
-dies takes its running tasks (and results not yet fetched) with it; the scheduler runs them
-again elsewhere, and the client writes each partition once. Needs ``pip install
-foon[dask]``."""
+queries (Arrow IPC bytes). A worker that sees the output folder (the client puts a probe
+file with a random name in it before the batch) writes the task's partition there itself,
+atomically, and returns only its manifest entry; a worker that does not returns the answers
+(Arrow IPC bytes) and the client writes them. The client alone records the partitions in
+the manifest, as their tasks complete, with a bounded number of tasks in flight. A worker
+that dies takes its running tasks (and results not yet fetched) with it; the scheduler runs
+them again elsewhere, a partition written twice is the same bytes renamed over itself, and
+the client records each partition once. Needs ``pip install foon[dask]``."""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import secrets
 from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
@@ -25,7 +29,7 @@ if TYPE_CHECKING:
     from foon import Foon, MotionRates
     from foon._kitchens import KitchenSet
 
-__all__ = ["FoonPlugin", "plan_chunk", "run"]
+__all__ = ["LOCAL_CLUSTER_CONFIG", "FoonPlugin", "local_cluster", "plan_chunk", "run"]
 
 #: Tasks in flight per worker thread: one planning, one queued behind it so that the
 #: worker never waits for the client.
@@ -34,6 +38,33 @@ IN_FLIGHT_PER_THREAD = 2
 #: How many times a task is retried when it fails (on top of the scheduler's own reruns of
 #: the tasks of a worker that died).
 RETRIES = 2
+
+
+#: The Dask settings of the local cluster that the engine starts when it is given neither a
+#: client nor a scheduler (:func:`local_cluster`): Dask's statistical profiler of the
+#: workers off, and its event-loop tick and system monitor at 500 ms and 5 s instead of
+#: 20 ms and 500 ms. An idle two-worker cluster then costs about a third of the CPU time
+#: (the workers plan in a native call that shows nothing to a Python profiler).
+LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.admin.system-monitor.interval": "5s",
+}
+
+
+def local_cluster(n_workers: int | None = None) -> Any:
+    """A ``LocalCluster`` of ``n_workers`` (default: one per core) single-threaded worker
+    processes, with :data:`LOCAL_CLUSTER_CONFIG`."""
+    import dask
+    from distributed import LocalCluster
+
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        return LocalCluster(  # type: ignore[no-untyped-call]
+            n_workers=n_workers or os.cpu_count() or 1,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+        )
 
 
 def _to_ipc(table: pa.Table) -> bytes:
@@ -54,8 +85,9 @@ def _from_ipc(data: bytes) -> pa.Table:
 
 class FoonPlugin(WorkerPlugin):
     """Opens the index once per worker (checking its fingerprint) and holds the kitchen set
-    and the planning settings for the tasks of one batch. Pickled to each worker with only
-    the index path, the fingerprint and the kitchen set's bytes."""
+    and the planning settings for the tasks of one batch, and whether this worker writes
+    the partitions (it sees the probe file in the output folder). Pickled to each worker
+    with only the paths, the fingerprint and the kitchen set's bytes."""
 
     def __init__(
         self,
@@ -65,6 +97,8 @@ class FoonPlugin(WorkerPlugin):
         motions: list[tuple[str, float]] | None,
         utensils: list[str],
         default_rate: float | None,
+        out: str | None = None,
+        probe: str | None = None,
     ) -> None:
         self.index_path = index_path
         self.fingerprint = fingerprint
@@ -72,16 +106,21 @@ class FoonPlugin(WorkerPlugin):
         self.motions = motions
         self.utensils = utensils
         self.default_rate = default_rate
+        self.out = out
+        self.probe = probe
         self.foon: Foon | None = None
         self.kitchens: KitchenSet | None = None
         #: How many times this worker opened the index (1 after setup).
         self.opens = 0
+        #: Whether this worker writes the partitions of its tasks (set by setup).
+        self.writes = False
 
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
         state["foon"] = None
         state["kitchens"] = None
         state["opens"] = 0
+        state["writes"] = False
         return state
 
     def setup(self, worker: Any) -> None:
@@ -97,18 +136,27 @@ class FoonPlugin(WorkerPlugin):
         self.foon = f
         self.kitchens = KitchenSet.from_bytes(self.kitchen_bytes)
         self.opens += 1
+        # The probe's name is random: a folder at the same path on another machine does
+        # not have it.
+        self.writes = (
+            self.out is not None
+            and self.probe is not None
+            and os.path.isfile(os.path.join(self.out, self.probe))
+        )
 
     def teardown(self, worker: Any) -> None:
         self.foon = None
         self.kitchens = None
 
 
-def plan_chunk(name: str, queries: bytes, threads: int) -> bytes:
-    """The task: answers one chunk of queries (Arrow IPC bytes) with the index and kitchens
-    of the worker's plugin ``name``; returns the result table as Arrow IPC bytes."""
+def plan_chunk(name: str, k: int, queries: bytes, threads: int) -> tuple[str, Any]:
+    """The task: answers chunk ``k`` of the queries (Arrow IPC bytes) with the index and
+    kitchens of the worker's plugin ``name``. Returns ``("entry", manifest entry)`` when the
+    worker wrote the partition itself, else ``("table", the result table as Arrow IPC
+    bytes)``."""
     from distributed import get_worker
 
-    from foon import _arrow
+    from foon import _arrow, _batch
 
     worker = get_worker()
     plugin = worker.plugins.get(name)
@@ -123,7 +171,21 @@ def plan_chunk(name: str, queries: bytes, threads: int) -> bytes:
         utensils=plugin.utensils,
         default_rate=plugin.default_rate,
     )
-    return _to_ipc(table)
+    if plugin.writes and plugin.out is not None:
+        return "entry", _batch.write_partition(plugin.out, k, table)
+    return "table", _to_ipc(table)
+
+
+def _make_probe(out: str, token: str) -> str:
+    """Puts an empty file with a random name in ``out`` (a temporary file of the batch's,
+    removed by a rerun if left over) and returns its name: the workers that see it write
+    their partitions there."""
+    from foon._batch import MANIFEST
+
+    name = f".{MANIFEST}.probe-{token}-{secrets.token_hex(8)}.tmp"
+    with open(os.path.join(out, name), "wb"):
+        pass
+    return name
 
 
 def _worker_threads(client: Any) -> int:
@@ -133,8 +195,9 @@ def _worker_threads(client: Any) -> int:
 
 def run(
     chunks: Iterable[tuple[int, pa.Table]],
-    write: Callable[[int, pa.Table], None],
+    record: Callable[[int, dict[str, Any]], None],
     *,
+    out: str,
     foon: Foon,
     kitchens: KitchenSet,
     client: Any,
@@ -146,9 +209,10 @@ def run(
     token: str,
 ) -> None:
     """Plans ``chunks`` on the cluster (``client``, else a client of ``scheduler``, else a
-    local cluster of one single-threaded worker process per core) and calls ``write(k,
-    results)`` once per chunk, as the tasks complete."""
-    from distributed import Client, LocalCluster
+    local cluster of one single-threaded worker process per core) into partitions of the
+    folder ``out`` and calls ``record(k, entry)`` once per chunk with its manifest entry,
+    as the tasks complete."""
+    from distributed import Client
 
     path = foon.index_path
     if path is None:
@@ -159,31 +223,33 @@ def run(
             if scheduler is not None:
                 client = Client(scheduler)  # type: ignore[no-untyped-call]
             else:
-                cluster = LocalCluster(  # type: ignore[no-untyped-call]
-                    n_workers=os.cpu_count() or 1,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                )
+                cluster = local_cluster()
                 own.append(cluster)
                 client = Client(cluster)  # type: ignore[no-untyped-call]
             own.insert(0, client)
         name = f"foon-batch-{token}"
-        plugin = FoonPlugin(
-            os.path.abspath(path),
-            foon.fingerprint,
-            kitchens.to_bytes(),
-            None if motions is None else list(motions.items()),
-            list(utensils),
-            default_rate,
-        )
-        client.register_plugin(plugin, name=name)
+        probe = _make_probe(out, token)
         try:
-            _drive(client, chunks, write, name, threads or 1)
+            plugin = FoonPlugin(
+                os.path.abspath(path),
+                foon.fingerprint,
+                kitchens.to_bytes(),
+                None if motions is None else list(motions.items()),
+                list(utensils),
+                default_rate,
+                os.path.abspath(out),
+                probe,
+            )
+            client.register_plugin(plugin, name=name)
+            try:
+                _drive(client, chunks, record, out, name, threads or 1)
+            finally:
+                # A closed or broken client has nothing to undo.
+                with contextlib.suppress(Exception):
+                    client.unregister_worker_plugin(name)
         finally:
-            # A closed or broken client has nothing to undo.
-            with contextlib.suppress(Exception):
-                client.unregister_worker_plugin(name)
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.join(out, probe))
     finally:
         for c in own:
             c.close()
@@ -192,15 +258,18 @@ def run(
 def _drive(
     client: Any,
     chunks: Iterable[tuple[int, pa.Table]],
-    write: Callable[[int, pa.Table], None],
+    record: Callable[[int, dict[str, Any]], None],
+    out: str,
     name: str,
     threads: int,
 ) -> None:
     from distributed import as_completed
 
+    from foon._batch import part_name, write_partition
+
     limit = max(2, IN_FLIGHT_PER_THREAD * _worker_threads(client))
     source = iter(chunks)
-    running: dict[Any, int] = {}
+    running: dict[Any, tuple[int, int]] = {}
     ac = as_completed()  # type: ignore[no-untyped-call]
 
     def submit_next() -> bool:
@@ -211,28 +280,43 @@ def _drive(
         fut = client.submit(
             plan_chunk,
             name,
+            k,
             _to_ipc(table),
             threads,
             key=f"{name}-{k:05d}",
             pure=False,
             retries=RETRIES,
         )
-        running[fut] = k
+        running[fut] = (k, table.num_rows)
         ac.add(fut)  # type: ignore[no-untyped-call]
         return True
 
-    while len(running) < limit and submit_next():
-        pass
-    for fut in ac:
-        k = running.pop(fut)
-        try:
-            data = fut.result()
-        except Exception as e:
-            for other in running:
-                other.cancel()
-            raise RuntimeError(f"partition {k}: the task failed on the cluster: {e}") from e
-        write(k, _from_ipc(data))
-        fut.release()
-        del fut
+    try:
         while len(running) < limit and submit_next():
             pass
+        for fut in ac:
+            k, rows = running.pop(fut)
+            try:
+                kind, value = fut.result()
+            except Exception as e:
+                raise RuntimeError(f"partition {k}: the task failed on the cluster: {e}") from e
+            fut.release()
+            del fut
+            if kind == "entry":
+                entry = value
+                if entry.get("file") != part_name(k) or entry.get("rows") != rows:
+                    raise RuntimeError(
+                        f"partition {k}: a worker wrote {entry.get('file')} with "
+                        f"{entry.get('rows')} rows, not {part_name(k)} with {rows}"
+                    )
+            else:
+                entry = write_partition(out, k, _from_ipc(value))
+            record(k, entry)
+            while len(running) < limit and submit_next():
+                pass
+    except BaseException:
+        # The tasks not yet started are dropped; a running one may still write its (whole)
+        # partition, which the manifest does not list and a rerun plans again.
+        for other in running:
+            other.cancel()
+        raise
