@@ -8,8 +8,8 @@ import random
 
 import foon
 import foon_reference as ref
-from foon import _foon
 import pytest
+from foon import _foon
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_differential import UTENSILS, Course, GenFoon, gen_foons, load_course, rust_kitchen
