@@ -480,7 +480,7 @@ def derivable_many(
 ) -> list[list[bool]] | list[list[int | None]]: ...
 
 # Queries in, results out.
-__all__ += ["KitchenSet", "failure_codes", "plan_queries", "plan_query_columns"]
+__all__ += ["KitchenSet", "failure_codes", "plan_query_columns"]
 
 @final
 class KitchenSet:
@@ -505,19 +505,6 @@ class KitchenSet:
     @staticmethod
     def from_bytes(data: bytes) -> KitchenSet: ...
 
-def plan_queries(
-    foon: Foon,
-    kitchens: KitchenSet,
-    kitchen_ids: list[str | None],
-    goals: list[str | None],
-    methods: list[str | None],
-    options: list[str | None] | None = None,
-    threads: int | None = None,
-    utensils: list[str] | None = None,
-    rates: list[tuple[str, float]] | None = None,
-    default_rate: float | None = None,
-    deltas: str | None = None,
-) -> tuple[Any, ...]: ...
 def plan_query_columns(
     foon: Foon,
     kitchens: KitchenSet,

@@ -1,4 +1,4 @@
-//! `foon._foon.KitchenSet` and `plan_queries`: the batch of query rows of
+//! `foon._foon.KitchenSet` and `plan_query_columns`: the batch of query rows of
 //! `foon_core::queries`, its answers handed back as Arrow-shaped byte buffers (validity
 //! bitmaps, little-endian values, `int32` offsets) that `foon._arrow` wraps without copying
 //! row by row.
@@ -363,55 +363,13 @@ fn arrow_strings<'a>(
     Ok(out)
 }
 
-/// Answers query rows (columns of equal length; `None` for a null field) over `foon` with
-/// the kitchens of `kitchens`, on `threads` threads; `deltas` is how delta kitchens are
-/// prepared (`"incremental"`, the default, or `"from-scratch"`). Returns the answers as buffers:
-/// (rows, solved bitmap, then (validity, values) for `fu_count`, height, success, cost,
-/// `leaf_count`; (offsets, values) for units; (validity, offsets, data) for failure; (list
-/// offsets, string offsets, data) for missing; (validity, offsets, data) for message).
-#[pyfunction]
-#[pyo3(signature = (foon, kitchens, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None))]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn plan_queries<'py>(
-    py: Python<'py>,
-    foon: &PyFoon,
-    kitchens: &PyKitchenSet,
-    kitchen_ids: Vec<Option<String>>,
-    goals: Vec<Option<String>>,
-    methods: Vec<Option<String>>,
-    options: Option<Vec<Option<String>>>,
-    threads: Option<&Bound<'py, PyAny>>,
-    utensils: Option<&Bound<'py, PyAny>>,
-    rates: Option<&Bound<'py, PyAny>>,
-    default_rate: Option<&Bound<'py, PyAny>>,
-    deltas: Option<&str>,
-) -> PyResult<Bound<'py, PyTuple>> {
-    let n = kitchen_ids.len();
-    if goals.len() != n || methods.len() != n || options.as_ref().is_some_and(|o| o.len() != n) {
-        return Err(pyo3::exceptions::PyValueError::new_err(
-            "the query columns must have the same length",
-        ));
-    }
-    let rows: Vec<QueryRow<'_>> = (0..n)
-        .map(|i| QueryRow {
-            kitchen: kitchen_ids[i].as_deref(),
-            goal: goals[i].as_deref(),
-            method: methods[i].as_deref(),
-            options: options.as_ref().and_then(|o| o[i].as_deref()),
-        })
-        .collect();
-    answer_rows(
-        py,
-        foon,
-        kitchens,
-        &rows,
-        (threads, utensils, rates, default_rate),
-        deltas,
-    )
-}
-
-/// As [`plan_queries`], with the columns of the `n` rows given as Arrow string buffers (see
-/// [`ArrowStrings`]; `options` may be absent), read without a Python object per value.
+/// Answers `n` query rows over `foon` with the kitchens of `kitchens`, on `threads` threads.
+/// The columns come as Arrow string buffers ([`ArrowStrings`]; `options` may be absent), read
+/// without a Python object per value. `deltas` is how delta kitchens are prepared
+/// (`"incremental"`, the default, or `"from-scratch"`). Returns the answers as buffers: (rows,
+/// solved bitmap, then (validity, values) for `fu_count`, height, success, cost, `leaf_count`;
+/// (offsets, values) for units; (validity, offsets, data) for failure; (list offsets, string
+/// offsets, data) for missing; (validity, offsets, data) for message).
 #[pyfunction]
 #[pyo3(signature = (foon, kitchens, n, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None))]
 #[allow(clippy::too_many_arguments)]
@@ -464,7 +422,7 @@ type PlanArgs<'a, 'py> = (
     Option<&'a Bound<'py, PyAny>>,
 );
 
-/// Answers `rows` (see [`plan_queries`]).
+/// Answers `rows` (see [`plan_query_columns`]).
 fn answer_rows<'py>(
     py: Python<'py>,
     foon: &PyFoon,

@@ -364,7 +364,7 @@ pub struct RunOptions<'a> {
     pub rates: Option<&'a MotionRates>,
     /// The default rate of rows whose options give none.
     pub default_rate: Option<f64>,
-    /// How kitchens given as a base plus a delta are prepared (see [`prepare_kitchen`]).
+    /// How kitchens given as a base plus a delta are prepared (see [`prepare_wave`]).
     pub deltas: DeltaPreparation,
 }
 
@@ -614,49 +614,6 @@ pub fn prepare_wave(
     }
     out.into_iter()
         .map(|p| p.ok_or_else(|| Error::Invalid("a kitchen was not prepared".into())))
-        .collect()
-}
-
-/// [`prepare_wave`], with the delta kitchens derived too, on up to the batch's workers at
-/// once: every kitchen of the wave prepared, in order.
-pub fn prepare_kitchen(
-    foon: &Foon,
-    cache: &PreparedCache,
-    wave: &[(Arc<PreparedBase>, &Entry, u8)],
-    opts: &BatchOptions<'_>,
-    deltas: DeltaPreparation,
-    warm: Option<Warm<'_>>,
-) -> Result<Vec<Arc<Prepared>>> {
-    let kitchens = prepare_wave(foon, cache, wave, opts, deltas, warm)?;
-    let never = || false;
-    let cancel: &(dyn Fn() -> bool + Sync) = opts.cancel.unwrap_or(&never);
-    let slots: Vec<OnceLock<Result<Arc<Prepared>>>> =
-        kitchens.iter().map(|_| OnceLock::new()).collect();
-    let positions: Vec<usize> = (0..kitchens.len()).collect();
-    plan_rows(&positions, opts.workers(kitchens.len())?, cancel, &|i| {
-        let r = kitchens[i].prepared(foon, cache, wave[i].1, wave[i].2);
-        let ok = r.is_ok();
-        let _ = slots[i].set(r);
-        ok
-    })?;
-    // The first error, if any, else every kitchen (a slot left empty: cancelled).
-    let mut done = Vec::with_capacity(slots.len());
-    let mut failed = None;
-    for slot in slots {
-        match slot.into_inner() {
-            Some(Ok(p)) => done.push(Some(p)),
-            Some(Err(e)) => {
-                failed.get_or_insert(e);
-                done.push(None);
-            }
-            None => done.push(None),
-        }
-    }
-    if let Some(e) = failed {
-        return Err(e);
-    }
-    done.into_iter()
-        .map(|p| p.ok_or(Error::Cancelled))
         .collect()
 }
 
