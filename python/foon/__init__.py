@@ -1495,8 +1495,8 @@ class Planner:
     goals without paying for the preparation again (it is what :meth:`Foon.plan` builds
     for each call). It pickles (the preparation is redone on loading)."""
 
-    __slots__ = ("__weakref__", "_native", "default_rate", "foon", "kitchen", "level",
-                 "motions", "utensils")  # fmt: skip
+    __slots__ = ("__weakref__", "_changes", "_kitchen", "_native", "default_rate", "foon",
+                 "level", "motions", "utensils")  # fmt: skip
 
     def __init__(
         self,
@@ -1513,7 +1513,8 @@ class Planner:
         _check_level(level)
         self.level = level
         self.foon = foon
-        self.kitchen = _as_kitchen(kitchen)
+        self._kitchen: Kitchen | None = _as_kitchen(kitchen)
+        self._changes: tuple[Planner, Kitchen, Kitchen] | None = None
         self.motions = _as_rates(motions)
         self.utensils = _as_utensils(utensils)
         self.default_rate = default_rate
@@ -1525,6 +1526,18 @@ class Planner:
             default_rate,
             level,
         )
+
+    @property
+    def kitchen(self) -> Kitchen:
+        """The kitchen. For a planner made by :meth:`with_changes` it is built when first
+        asked for (planning never needs it)."""
+        k = self._kitchen
+        if k is None:
+            assert self._changes is not None
+            parent, adding, removing = self._changes
+            k = self._kitchen = parent.kitchen.without(removing).with_items(adding)
+            self._changes = None
+        return k
 
     def __repr__(self) -> str:
         rates = "no rates" if self.motions is None else _count(len(self.motions), "motion rate")
@@ -1695,16 +1708,22 @@ class Planner:
         those of ``Planner(foon, new_kitchen, ...)`` (docs/METHODS.md, "Incremental
         kitchens")."""
         adding, removing = _as_kitchen(add), _as_kitchen(remove)
-        kitchen = self.kitchen.without(removing).with_items(adding)
         new = object.__new__(Planner)
         new.level = self.level
         new.foon = self.foon
-        new.kitchen = kitchen
+        # At level 3 the change is applied as items; the new kitchen is built on first use.
+        if self.level == 3:
+            new._kitchen, new._changes = None, (self, adding, removing)
+        else:
+            new._kitchen, new._changes = self.kitchen.without(removing).with_items(adding), None
         new.motions = self.motions
         new.utensils = self.utensils
         new.default_rate = self.default_rate
         new._native = _foon.planner_with_changes(
-            self._native, adding._native, removing._native, kitchen._native
+            self._native,
+            adding._native,
+            removing._native,
+            None if new._kitchen is None else new._kitchen._native,
         )
         return new
 

@@ -525,8 +525,8 @@ def failure_codes() -> list[str]: ...
 __all__ += ["planner_with_changes"]
 
 def planner_with_changes(
-    planner: Planner, add: Kitchen, remove: Kitchen, kitchen: Kitchen
+    planner: Planner, add: Kitchen, remove: Kitchen, kitchen: Kitchen | None
 ) -> Planner:
     """A planner for `planner`'s kitchen without the items of `remove` and with those of
-    `add` (`kitchen`: that new kitchen), over the same FOON, utensils, rates and level,
+    `add` (`kitchen`: that new kitchen, needed at levels 1 and 2 only), over the same FOON, utensils, rates and level,
     prepared incrementally from `planner`'s preparation. Its results equal a new planner's."""

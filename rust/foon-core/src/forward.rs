@@ -6,41 +6,75 @@
 use std::collections::VecDeque;
 
 use crate::index::{Foon, NONE};
+use crate::layered::Layered;
 use crate::prepare::Prepared;
 
-/// Rank of every object (`NONE` when not derivable).
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Rank of every object (`NONE` when not derivable); equal when the ranks are.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Ranks {
-    rank: Vec<u32>,
+    rank: Layered<u32>,
 }
+
+impl Eq for Ranks {}
 
 impl Ranks {
     /// Ranks given per object (`NONE` when not derivable), computed elsewhere
     /// ([`crate::multi`]).
     pub(crate) fn from_vec(rank: Vec<u32>) -> Self {
+        Self {
+            rank: Layered::from_vec(rank),
+        }
+    }
+
+    /// Ranks kept as a [`Layered`] column (`incremental.rs`).
+    pub(crate) fn from_layered(rank: Layered<u32>) -> Self {
         Self { rank }
     }
 
+    pub(crate) fn layered(&self) -> &Layered<u32> {
+        &self.rank
+    }
+
+    /// The rank of `o` (`None` when it is not derivable or not an object).
+    #[inline]
     pub fn rank(&self, o: u32) -> Option<u32> {
-        self.rank.get(o as usize).copied().filter(|&r| r != NONE)
+        if o as usize >= self.rank.len() {
+            return None;
+        }
+        Some(self.rank.get(o)).filter(|&r| r != NONE)
+    }
+
+    /// The rank of object `o` of the FOON, `NONE` when it is not derivable.
+    #[inline]
+    pub fn raw(&self, o: u32) -> u32 {
+        self.rank.get(o)
     }
 
     pub fn is_derivable(&self, o: u32) -> bool {
         self.rank(o).is_some()
     }
 
-    pub fn as_slice(&self) -> &[u32] {
-        &self.rank
+    /// The number of objects.
+    pub fn len(&self) -> usize {
+        self.rank.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rank.len() == 0
+    }
+
+    /// Every object's rank in object order, `NONE` when not derivable.
+    pub fn to_vec(&self) -> Vec<u32> {
+        self.rank.to_vec()
     }
 
     /// Largest finite rank.
     pub fn max_rank(&self) -> u32 {
-        self.rank
-            .iter()
-            .copied()
-            .filter(|&r| r != NONE)
-            .max()
-            .unwrap_or(0)
+        self.rank.iter().filter(|&r| r != NONE).max().unwrap_or(0)
+    }
+
+    pub(crate) fn heap_bytes(&self, own: bool) -> usize {
+        self.rank.heap_bytes(own)
     }
 }
 
@@ -84,5 +118,5 @@ pub(crate) fn ranks(foon: &Foon, prep: &Prepared, extra: Option<&[bool]>) -> Ran
             }
         }
     }
-    Ranks { rank }
+    Ranks::from_vec(rank)
 }

@@ -24,6 +24,7 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::sync::Arc;
 
 use rayon::prelude::*;
 use rustc_hash::FxHashSet;
@@ -31,6 +32,8 @@ use rustc_hash::FxHashSet;
 use crate::error::{Error, Result};
 use crate::forward::Ranks;
 use crate::index::{Foon, NONE};
+use crate::kitchen::Kitchen;
+use crate::layered::{Editor, Layered};
 use crate::model::ObjectSpec;
 use crate::prepare::{Objective, Optimum, Prepared};
 use crate::search::{better, lower, tie_depth};
@@ -42,31 +45,55 @@ trait Store {
     fn set(&mut self, o: u32, v: (f64, u32), choice: u32);
 }
 
-/// An optimum's cost, depth and choice vectors.
-impl Store for Optimum {
+/// An optimum being updated: its cost, depth and choice columns.
+struct OptimumEdit {
+    cost: Editor<f64>,
+    depth: Editor<u32>,
+    choice: Editor<u32>,
+}
+
+impl OptimumEdit {
+    fn of(o: &Optimum) -> Self {
+        Self {
+            cost: o.cost.edit(),
+            depth: o.depth.edit(),
+            choice: o.choice.edit(),
+        }
+    }
+
+    fn finish(self) -> Optimum {
+        Optimum {
+            cost: self.cost.finish(),
+            choice: self.choice.finish(),
+            depth: self.depth.finish(),
+        }
+    }
+}
+
+impl Store for OptimumEdit {
     #[inline]
     fn get(&self, o: u32) -> (f64, u32) {
-        (self.cost[o as usize], self.depth[o as usize])
+        (self.cost.get(o), self.depth.get(o))
     }
     #[inline]
     fn choice(&self, o: u32) -> u32 {
-        self.choice[o as usize]
+        self.choice.get(o)
     }
     #[inline]
     fn set(&mut self, o: u32, v: (f64, u32), choice: u32) {
-        self.cost[o as usize] = v.0;
-        self.depth[o as usize] = v.1;
-        self.choice[o as usize] = choice;
+        self.cost.set(o, v.0);
+        self.depth.set(o, v.1);
+        self.choice.set(o, choice);
     }
 }
 
 /// Ranks as values (depth 0; `NONE` is +infinity); no choice is kept.
-struct RankStore(Vec<u32>);
+struct RankStore(Editor<u32>);
 
 impl Store for RankStore {
     #[inline]
     fn get(&self, o: u32) -> (f64, u32) {
-        match self.0[o as usize] {
+        match self.0.get(o) {
             NONE => (f64::INFINITY, 0),
             r => (f64::from(r), 0),
         }
@@ -77,7 +104,8 @@ impl Store for RankStore {
     }
     #[inline]
     fn set(&mut self, o: u32, v: (f64, u32), _: u32) {
-        self.0[o as usize] = if v.0.is_finite() { v.0 as u32 } else { NONE };
+        self.0
+            .set(o, if v.0.is_finite() { v.0 as u32 } else { NONE });
     }
 }
 
@@ -98,16 +126,24 @@ struct Rules<'a> {
 /// they do.
 type Key = Reverse<(u64, u32, u32)>;
 
+/// A pass that reaches more than one object in `REACH_SHARE` (and more than `REACH_MIN`)
+/// stops: the part is then computed from scratch on first use, which costs less than an
+/// update of that size (a delta that removes an item much of the FOON is made from).
+const REACH_SHARE: usize = 16;
+const REACH_MIN: usize = 1024;
+
 /// Updates `store` (the values before the change) to the values after it, the leaves that
 /// changed being among `flipped`. Returns the objects whose value or choice may have
-/// changed.
+/// changed, or `None` when the change reaches too much of the FOON to be worth updating
+/// (see [`REACH_SHARE`]; `store` is then left half updated, to be dropped).
 fn pass(
     foon: &Foon,
     prep: &Prepared,
     store: &mut dyn Store,
     flipped: &[u32],
     rules: &Rules<'_>,
-) -> Vec<u32> {
+    limit: usize,
+) -> Option<Vec<u32>> {
     // Per object: AFFECTED, DONE (final in this pass). Zeroed pages cost nothing until
     // touched, so the marks cost what the pass reaches.
     const AFFECTED: u8 = 1;
@@ -125,6 +161,9 @@ fn pass(
     let mut i = 0;
     while let Some(&x) = list.get(i) {
         i += 1;
+        if list.len() > limit {
+            return None;
+        }
         for &f in prep.needed_by(x) {
             for &y in foon.outputs(f) {
                 if mark[y as usize] & AFFECTED == 0 && (rules.old_choice)(&*store, y) == f {
@@ -178,6 +217,9 @@ fn pass(
         mark[o as usize] |= DONE;
         if mark[o as usize] & AFFECTED == 0 {
             lowered.push(o);
+            if lowered.len() > limit {
+                return None;
+            }
         }
         for &f in prep.needed_by(o) {
             if !available(&*store, &mark, f) {
@@ -201,7 +243,7 @@ fn pass(
         }
     }
     list.extend(lowered);
-    list
+    Some(list)
 }
 
 /// The (cost, depth) of unit `f` weighing `w`: the weight, plus the costs of its needed
@@ -229,19 +271,15 @@ fn rank_value(prep: &Prepared, store: &dyn Store, f: u32) -> f64 {
 /// The choice of `ids` of every object in `objects`, from the ranks `rank` and the kitchen of
 /// `prep`: the first producer whose value is the object's rank (`NONE` for kitchen objects
 /// and objects that are not derivable), as `search::ids` computes it.
-fn ids_choice_of(foon: &Foon, prep: &Prepared, rank: &[u32], o: u32) -> u32 {
-    let r = rank[o as usize];
+fn ids_choice_of(foon: &Foon, prep: &Prepared, rank: &Layered<u32>, o: u32) -> u32 {
+    let r = rank.get(o);
     if r == NONE || prep.in_kitchen(o) {
         return NONE;
     }
     let value = |f: u32| {
         let mut m = 0;
         for &x in prep.needed(f) {
-            let rx = if prep.in_kitchen(x) {
-                0
-            } else {
-                rank[x as usize]
-            };
+            let rx = if prep.in_kitchen(x) { 0 } else { rank.get(x) };
             if rx == NONE {
                 return NONE;
             }
@@ -266,6 +304,19 @@ impl Prepared {
     /// has not computed is computed on first use, as for a kitchen prepared from scratch.
     /// The level is the base kitchen's.
     pub fn with_delta(&self, foon: &Foon, added: &[u32], removed: &[u32]) -> Result<Prepared> {
+        let limit = REACH_MIN.max(foon.object_count() / REACH_SHARE);
+        self.with_delta_reaching(foon, added, removed, limit)
+    }
+
+    /// [`Prepared::with_delta`], a pass that reaches more than `limit` objects leaving its
+    /// part to be computed from scratch on first use.
+    fn with_delta_reaching(
+        &self,
+        foon: &Foon,
+        added: &[u32],
+        removed: &[u32],
+        limit: usize,
+    ) -> Result<Prepared> {
         self.check_foon(foon)?;
         let n = foon.object_count();
         for &o in added.iter().chain(removed) {
@@ -276,32 +327,24 @@ impl Prepared {
             }
         }
         let old = self.kitchen_flags();
-        let mut in_kitchen = old.to_vec();
+        let mut in_kitchen = old.edit();
         for &o in removed {
-            in_kitchen[o as usize] = false;
+            in_kitchen.set(o, false);
         }
         for &o in added {
-            in_kitchen[o as usize] = true;
+            in_kitchen.set(o, true);
         }
         let mut flipped: Vec<u32> = added
             .iter()
             .chain(removed)
             .copied()
-            .filter(|&o| old[o as usize] != in_kitchen[o as usize])
+            .filter(|&o| old.get(o) != in_kitchen.get(o))
             .collect();
         flipped.sort_unstable();
         flipped.dedup();
         // The kitchen objects, in id order: the old ones that stay, merged with the new ones.
-        let gone: FxHashSet<u32> = flipped
-            .iter()
-            .copied()
-            .filter(|&o| old[o as usize])
-            .collect();
-        let new: Vec<u32> = flipped
-            .iter()
-            .copied()
-            .filter(|&o| !old[o as usize])
-            .collect();
+        let gone: FxHashSet<u32> = flipped.iter().copied().filter(|&o| old.get(o)).collect();
+        let new: Vec<u32> = flipped.iter().copied().filter(|&o| !old.get(o)).collect();
         let mut kitchen_objects = Vec::with_capacity(self.kitchen_objects().len() + new.len());
         let mut it = new.iter().copied().peekable();
         for &o in self.kitchen_objects() {
@@ -315,28 +358,29 @@ impl Prepared {
         }
         kitchen_objects.extend(it);
         // The new kitchen's flags and objects, on this base; what is computed is set below.
-        let out = self.with_parts(in_kitchen, kitchen_objects);
+        let out = self.with_parts(in_kitchen.finish(), kitchen_objects);
         if flipped.is_empty() {
             // Nothing changed: everything computed is the same.
             let optima = Objective::ALL.map(|o| self.computed_optimum(o).cloned());
             out.set_computed(
                 self.computed_ranks().cloned(),
                 optima,
-                self.computed_ids_choice().map(<[u32]>::to_vec),
+                self.computed_ids_choice().cloned(),
             );
             return Ok(out);
         }
         // The parts are independent: they are updated at once, on the core's pool.
         let ((ranks, ids), optima) = crate::search::batch::in_pool(|| {
             rayon::join(
-                || self.delta_ranks(foon, &out, &flipped),
+                || self.delta_ranks(foon, &out, &flipped, limit),
                 || {
                     let mut optima: [Option<Optimum>; 4] = Default::default();
                     let done: Vec<(usize, Optimum)> = Objective::ALL
                         .par_iter()
                         .enumerate()
                         .filter_map(|(i, &o)| {
-                            self.delta_optimum(foon, &out, &flipped, o).map(|x| (i, x))
+                            self.delta_optimum(foon, &out, &flipped, o, limit)
+                                .map(|x| (i, x))
                         })
                         .collect();
                     for (i, x) in done {
@@ -357,20 +401,25 @@ impl Prepared {
         foon: &Foon,
         new_prep: &Prepared,
         flipped: &[u32],
-    ) -> (Option<Ranks>, Option<Vec<u32>>) {
+        limit: usize,
+    ) -> (Option<Ranks>, Option<Layered<u32>>) {
         let old = self.kitchen_flags();
-        let was_kitchen = |o: u32| old[o as usize];
+        let was_kitchen = |o: u32| old.get(o);
         let is_kitchen = |o: u32| new_prep.in_kitchen(o);
         // Ranks, and from them the choice of `ids`.
         let mut ranks = None;
         let mut ids = None;
         if let Some(r) = self.computed_ranks() {
-            let old_rank = r.as_slice();
-            let mut store = RankStore(old_rank.to_vec());
-            // The first producer that achieves an object's rank (before the change).
+            let mut store = RankStore(r.layered().edit());
+            // The first producer that achieves an object's rank (before the change): the
+            // choice of `ids`, when computed.
+            let ids_before = self.computed_ids_choice();
             let old_choice = |_: &dyn Store, y: u32| {
-                let ry = old_rank[y as usize];
-                if ry == NONE || old[y as usize] {
+                if let Some(c) = ids_before {
+                    return c.get(y);
+                }
+                let ry = r.raw(y);
+                if ry == NONE || old.get(y) {
                     return NONE;
                 }
                 foon.producers(y)
@@ -379,7 +428,7 @@ impl Prepared {
                     .find(|&f| {
                         let mut m = 0;
                         for &x in self.needed(f) {
-                            let rx = old_rank[x as usize];
+                            let rx = r.raw(x);
                             if rx == NONE {
                                 return false;
                             }
@@ -397,10 +446,13 @@ impl Prepared {
                 value: &value,
                 old_choice: &old_choice,
             };
-            let touched = pass(foon, new_prep, &mut store, flipped, &rules);
-            let rank = store.0;
+            let Some(touched) = pass(foon, new_prep, &mut store, flipped, &rules, limit) else {
+                // Too much changes: both are computed on first use, from scratch.
+                return (None, None);
+            };
+            let rank = store.0.finish();
             if let Some(c) = self.computed_ids_choice() {
-                let mut choice = c.to_vec();
+                let mut choice = c.edit();
                 let mut again: FxHashSet<u32> = touched.iter().copied().collect();
                 for &x in &touched {
                     for &f in new_prep.needed_by(x) {
@@ -408,11 +460,11 @@ impl Prepared {
                     }
                 }
                 for o in again {
-                    choice[o as usize] = ids_choice_of(foon, new_prep, &rank, o);
+                    choice.set(o, ids_choice_of(foon, new_prep, &rank, o));
                 }
-                ids = Some(choice);
+                ids = Some(choice.finish());
             }
-            ranks = Some(Ranks::from_vec(rank));
+            ranks = Some(Ranks::from_layered(rank));
         }
         (ranks, ids)
     }
@@ -425,18 +477,19 @@ impl Prepared {
         new_prep: &Prepared,
         flipped: &[u32],
         objective: Objective,
+        limit: usize,
     ) -> Option<Optimum> {
         let old = self.kitchen_flags();
-        let was_kitchen = |o: u32| old[o as usize];
+        let was_kitchen = |o: u32| old.get(o);
         let is_kitchen = |o: u32| new_prep.in_kitchen(o);
-        let mut store = self.computed_optimum(objective)?.clone();
+        let mut store = OptimumEdit::of(self.computed_optimum(objective)?);
         let rates = self.fu_rates();
         let success =
             |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0 - rates[f as usize].ln());
         let units = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 1.0);
         let inputs = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0);
         let raw = |o: u32| foon.producers(o).is_empty();
-        let was_shop = |o: u32| old[o as usize] || raw(o);
+        let was_shop = |o: u32| old.get(o) || raw(o);
         let is_shop = |o: u32| new_prep.in_kitchen(o) || raw(o);
         let old_choice = |s: &dyn Store, y: u32| s.choice(y);
         let rules = match objective {
@@ -469,8 +522,8 @@ impl Prepared {
                 old_choice: &old_choice,
             },
         };
-        pass(foon, new_prep, &mut store, flipped, &rules);
-        Some(store)
+        pass(foon, new_prep, &mut store, flipped, &rules, limit)?;
+        Some(store.finish())
     }
 
     /// As [`Prepared::with_delta`], with the new kitchen given whole (object ids of `foon`,
@@ -500,6 +553,26 @@ impl Prepared {
         self.with_delta(foon, &added, &removed)
     }
 
+    /// As [`Prepared::with_delta`], the change given as kitchen items: the kitchen of these
+    /// inputs without the items of `remove`, then with those of `add` ([`Kitchen::without`],
+    /// [`Kitchen::with`]). At level 3 an item is one object, so only `add` and `remove` are
+    /// matched; at levels 1 and 2 one item may match several objects and several items one
+    /// (an item removed can leave its objects in the kitchen through another item), so the
+    /// new kitchen, from `kitchen`, is matched whole.
+    pub fn with_kitchen_changes(
+        &self,
+        foon: &Foon,
+        add: &Kitchen,
+        remove: &Kitchen,
+        kitchen: impl FnOnce() -> Result<Arc<Kitchen>>,
+    ) -> Result<Prepared> {
+        if self.level() == 3 {
+            return self.with_delta(foon, &add.match_in(foon), &remove.match_in(foon));
+        }
+        let ids = kitchen()?.match_at_level(foon, self.level())?;
+        self.with_kitchen(foon, &ids)
+    }
+
     /// As [`Prepared::with_delta`], with kitchen items: those found in `foon` (at level 3;
     /// the others are ignored, as in [`Prepared::new`]).
     pub fn with_items(
@@ -520,6 +593,7 @@ mod tests {
     use std::fmt::Write as _;
 
     use crate::index::Foon;
+    use crate::layered::Layered;
     use crate::model::MotionRates;
     use crate::parse::{ParseOptions, parse_foon};
     use crate::prepare::{Objective, Prepared};
@@ -589,37 +663,45 @@ mod tests {
     }
 
     /// Every component computed on `inc` equals the one computed from scratch on `fresh`, bit
-    /// for bit, and `inc` has computed exactly what `base` had.
-    fn assert_same(foon: &Foon, base: &Prepared, inc: &Prepared, fresh: &Prepared) {
+    /// for bit, and `inc` has computed exactly what `base` had (with `all`; else what it has
+    /// computed is among what `base` had: a pass that reached too far left its part).
+    fn assert_same(foon: &Foon, base: &Prepared, inc: &Prepared, fresh: &Prepared, all: bool) {
+        let parts = |a: bool, b: bool| {
+            if all {
+                assert_eq!(a, b);
+            } else {
+                assert!(!a || b);
+            }
+        };
         assert_eq!(inc.kitchen_flags(), fresh.kitchen_flags());
         assert_eq!(inc.kitchen_objects(), fresh.kitchen_objects());
-        assert_eq!(
+        parts(
             inc.computed_ranks().is_some(),
-            base.computed_ranks().is_some()
+            base.computed_ranks().is_some(),
         );
         if let Some(r) = inc.computed_ranks() {
             assert_eq!(r, fresh.ranks(foon));
         }
-        assert_eq!(
+        parts(
             inc.computed_ids_choice().is_some(),
-            base.computed_ids_choice().is_some()
+            base.computed_ids_choice().is_some(),
         );
         if let Some(c) = inc.computed_ids_choice() {
             compute(foon, fresh, 2);
             match fresh.computed_ids_choice() {
                 Some(want) => assert_eq!(c, want),
                 // Nothing to plan: no object has a choice.
-                None => assert!(c.iter().all(|&f| f == crate::NONE)),
+                None => assert!(c.iter().all(|f| f == crate::NONE)),
             }
         }
         for objective in Objective::ALL {
             let got = inc.computed_optimum(objective);
-            assert_eq!(got.is_some(), base.computed_optimum(objective).is_some());
+            parts(got.is_some(), base.computed_optimum(objective).is_some());
             let Some(got) = got else { continue };
             let ctx = Context::with(foon, fresh).unwrap();
             crate::search::compute_optimum(&ctx, objective).unwrap();
             let want = fresh.computed_optimum(objective).unwrap();
-            let bits = |v: &[f64]| v.iter().map(|c| c.to_bits()).collect::<Vec<_>>();
+            let bits = |v: &Layered<f64>| v.iter().map(f64::to_bits).collect::<Vec<_>>();
             assert_eq!(bits(&got.cost), bits(&want.cost), "{objective:?} costs");
             assert_eq!(got.choice, want.choice, "{objective:?} choices");
             assert_eq!(got.depth, want.depth, "{objective:?} depths");
@@ -652,7 +734,16 @@ mod tests {
                 (0..rng.below(4)).map(|_| rng.below(n) as u32).collect()
             };
             let (added, removed) = (pick(&mut rng), pick(&mut rng));
-            let inc = base.with_delta(&foon, &added, &removed).unwrap();
+            // Every third round, passes limited to a few objects: those that reach further
+            // leave their part to be computed from scratch.
+            let limit = if round % 3 == 0 {
+                rng.below(4)
+            } else {
+                usize::MAX
+            };
+            let inc = base
+                .with_delta_reaching(&foon, &added, &removed, limit)
+                .unwrap();
             let mut new: Vec<u32> = kitchen
                 .iter()
                 .copied()
@@ -663,7 +754,22 @@ mod tests {
             new.dedup();
             changed += usize::from(new != kitchen);
             let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
-            assert_same(&foon, &base, &inc, &fresh);
+            assert_same(&foon, &base, &inc, &fresh, limit == usize::MAX);
+            // A delta of the derived kitchen: its changes are layered on the first's.
+            let (added2, removed2) = (pick(&mut rng), pick(&mut rng));
+            let inc2 = inc
+                .with_delta_reaching(&foon, &added2, &removed2, limit)
+                .unwrap();
+            let mut new2: Vec<u32> = new
+                .iter()
+                .copied()
+                .filter(|o| !removed2.contains(o))
+                .chain(added2.iter().copied())
+                .collect();
+            new2.sort_unstable();
+            new2.dedup();
+            let fresh2 = Prepared::with_base(&foon, base.base().clone(), &new2).unwrap();
+            assert_same(&foon, &inc, &inc2, &fresh2, limit == usize::MAX);
             // Plans read from either are the same (what is not computed is computed now).
             let (a, b) = (
                 Context::with(&foon, &inc).unwrap(),

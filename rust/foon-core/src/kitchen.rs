@@ -38,7 +38,8 @@ pub struct Kitchen {
     hashes: Vec<u64>,
     /// Item indices, hashed by identity.
     table: HashTable<u32>,
-    fingerprint: OnceLock<u128>,
+    /// [`Kitchen::fingerprint`] and the sum of the items' fingerprints it is made of.
+    fingerprint: OnceLock<(u128, u128)>,
     /// Set when a column would pass `u32` (reported as an error by the builders).
     too_large: bool,
     /// The canonical key of the item being added (reused from item to item).
@@ -565,37 +566,76 @@ impl Kitchen {
     /// strings length-prefixed and the multisets sorted by text, summed over the items, then
     /// mixed with their number). Computed once, on first use. Not a cryptographic hash.
     pub fn fingerprint(&self) -> u128 {
+        self.fingerprints().0
+    }
+
+    /// [`Kitchen::fingerprint`] and the sum of the items' fingerprints (computed once).
+    fn fingerprints(&self) -> (u128, u128) {
         *self.fingerprint.get_or_init(|| {
-            let mut sum = 0u128;
             let mut strs: Vec<&str> = Vec::new();
+            let mut sum = 0u128;
             for i in 0..self.len() {
-                let mut h = Fp::new();
-                h.str(self.label(i));
-                match self.container(i) {
-                    Some(c) => {
-                        h.u64(1);
-                        h.str(c);
-                    }
-                    None => h.u64(0),
-                }
-                for part in [self.ids(i).0, self.ids(i).1] {
-                    strs.clear();
-                    strs.extend(part.iter().map(|&s| self.strings.text(s)));
-                    strs.sort_unstable();
-                    h.u64(strs.len() as u64);
-                    for s in &strs {
-                        h.str(s);
-                    }
-                }
-                sum = sum.wrapping_add(h.finish());
+                sum = sum.wrapping_add(self.item_fingerprint(i, &mut strs));
             }
-            let mut h = Fp::new();
-            h.u64(self.len() as u64);
-            h.u64(sum as u64);
-            h.u64((sum >> 64) as u64);
-            h.finish()
+            (set_fingerprint(self.len(), sum), sum)
         })
     }
+
+    /// The fingerprint of item `i`'s identity (`strs` is scratch space).
+    fn item_fingerprint<'s>(&'s self, i: usize, strs: &mut Vec<&'s str>) -> u128 {
+        let mut h = Fp::new();
+        h.str(self.label(i));
+        match self.container(i) {
+            Some(c) => {
+                h.u64(1);
+                h.str(c);
+            }
+            None => h.u64(0),
+        }
+        for part in [self.ids(i).0, self.ids(i).1] {
+            strs.clear();
+            strs.extend(part.iter().map(|&s| self.strings.text(s)));
+            strs.sort_unstable();
+            h.u64(strs.len() as u64);
+            for s in strs.iter() {
+                h.str(s);
+            }
+        }
+        h.finish()
+    }
+
+    /// The [`Kitchen::fingerprint`] of `self.without(remove).with(add)`, from this kitchen's
+    /// (computed once) in the size of `add` and `remove`: the fingerprint of a set is made
+    /// of the sum of its items' fingerprints.
+    pub fn fingerprint_with_changes(&self, add: &Self, remove: &Self) -> u128 {
+        let (_, mut sum) = self.fingerprints();
+        let mut len = self.len();
+        let mut strs: Vec<&str> = Vec::new();
+        for i in 0..remove.len() {
+            if remove.item_in(i, self) {
+                len -= 1;
+                sum = sum.wrapping_sub(remove.item_fingerprint(i, &mut strs));
+            }
+        }
+        let mut strs: Vec<&str> = Vec::new();
+        for i in 0..add.len() {
+            // Added unless it stays: in this kitchen and not removed.
+            if !add.item_in(i, self) || add.item_in(i, remove) {
+                len += 1;
+                sum = sum.wrapping_add(add.item_fingerprint(i, &mut strs));
+            }
+        }
+        set_fingerprint(len, sum)
+    }
+}
+
+/// The fingerprint of a set of `len` items whose fingerprints sum to `sum`.
+fn set_fingerprint(len: usize, sum: u128) -> u128 {
+    let mut h = Fp::new();
+    h.u64(len as u64);
+    h.u64(sum as u64);
+    h.u64((sum >> 64) as u64);
+    h.finish()
 }
 
 /// The magic of [`Kitchen::to_bytes`]: the format's name and version.

@@ -33,6 +33,7 @@ pub mod write;
 // Many kitchens at once: the shared base, the 64-lane pass, the cache of prepared kitchens.
 pub mod cache;
 mod incremental;
+mod layered;
 pub mod multi;
 pub use prepare::PreparedBase;
 

@@ -14,6 +14,7 @@ use crate::forward;
 
 pub use crate::forward::Ranks;
 use crate::index::{Csr, Foon, NONE};
+use crate::layered::Layered;
 use crate::model::{MotionRates, ObjectSpec, check_rate};
 
 /// Planning inputs prepared for one FOON: the kitchen matched to objects, on a
@@ -28,15 +29,18 @@ pub struct Prepared {
     foon: [u8; 16],
     /// What does not depend on the kitchen: needed inputs, rates, greedy orders.
     base: Arc<PreparedBase>,
-    in_kitchen: Vec<bool>,
+    in_kitchen: Layered<bool>,
     kitchen_objects: Vec<u32>,
     ranks: OnceLock<Ranks>,
     /// Per [`Objective`]: final costs and choices from the kitchen over the whole FOON.
     optima: [OnceLock<Optimum>; Objective::COUNT],
     /// `ids`: the first producer of each object that achieves its rank (`NONE` when none).
-    ids_choice: OnceLock<Vec<u32>>,
+    ids_choice: OnceLock<Layered<u32>>,
     /// The identity level the kitchen was matched at (1, 2 or 3; results report it).
     level: u8,
+    /// Whether the kitchen was derived from another by a delta, sharing its columns
+    /// ([`Prepared::with_parts`]).
+    derived: bool,
     /// The goals' ancestries the k best trees were computed over, kept for later calls.
     pub(crate) kbest: crate::search::kbest::AncestryCache,
 }
@@ -107,12 +111,42 @@ impl Objective {
 
 /// Final cost and choice of every object for one [`Objective`] (`f64::INFINITY` and `NONE`
 /// for an object that is not finalised).
+/// Kept as [`Layered`] columns, so that a kitchen derived from another by a delta shares them.
 #[derive(Clone)]
 pub(crate) struct Optimum {
-    pub(crate) cost: Vec<f64>,
-    pub(crate) choice: Vec<u32>,
+    pub(crate) cost: Layered<f64>,
+    pub(crate) choice: Layered<u32>,
     /// The tie key of every final object (`search::optimal::tie_depth`; 0 otherwise).
-    pub(crate) depth: Vec<u32>,
+    pub(crate) depth: Layered<u32>,
+}
+
+impl Optimum {
+    pub(crate) fn from_vecs(cost: Vec<f64>, choice: Vec<u32>, depth: Vec<u32>) -> Self {
+        Self {
+            cost: Layered::from_vec(cost),
+            choice: Layered::from_vec(choice),
+            depth: Layered::from_vec(depth),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn cost(&self, o: u32) -> f64 {
+        self.cost.get(o)
+    }
+
+    #[inline]
+    pub(crate) fn choice(&self, o: u32) -> u32 {
+        self.choice.get(o)
+    }
+
+    #[inline]
+    pub(crate) fn depth(&self, o: u32) -> u32 {
+        self.depth.get(o)
+    }
+
+    fn heap_bytes(&self, own: bool) -> usize {
+        self.cost.heap_bytes(own) + self.choice.heap_bytes(own) + self.depth.heap_bytes(own)
+    }
 }
 
 /// The value in `cell`, computing it with `init` when it is not there yet. An error (a
@@ -182,12 +216,13 @@ impl Prepared {
         Ok(Self {
             foon: base.foon,
             base,
-            in_kitchen,
+            in_kitchen: Layered::from_vec(in_kitchen),
             kitchen_objects,
             ranks: OnceLock::new(),
             optima: Default::default(),
             ids_choice: OnceLock::new(),
             level: 3,
+            derived: false,
             kbest: crate::search::kbest::AncestryCache::default(),
         })
     }
@@ -206,16 +241,21 @@ impl Prepared {
 
     /// Heap bytes of what belongs to this kitchen: its flags and objects and whatever it has
     /// computed so far (ranks, optima, the `ids` choice); not the shared base.
+    ///
+    /// A kitchen derived from another by a delta (`incremental.rs`) shares the columns of
+    /// the kitchen it was derived from and counts only its changes: the shared columns are
+    /// counted by the kitchen that computed them.
     pub fn heap_bytes(&self) -> usize {
-        let mut b = self.in_kitchen.capacity() + 4 * self.kitchen_objects.capacity();
+        let own = !self.derived;
+        let mut b = self.in_kitchen.heap_bytes(own) + 4 * self.kitchen_objects.capacity();
         if let Some(r) = self.ranks.get() {
-            b += 4 * r.as_slice().len();
+            b += r.heap_bytes(own);
         }
         for o in self.optima.iter().filter_map(OnceLock::get) {
-            b += 8 * o.cost.capacity() + 4 * o.choice.capacity() + 4 * o.depth.capacity();
+            b += o.heap_bytes(own);
         }
         if let Some(c) = self.ids_choice.get() {
-            b += 4 * c.capacity();
+            b += c.heap_bytes(own);
         }
         b
     }
@@ -245,11 +285,11 @@ impl Prepared {
 
     #[inline]
     pub fn in_kitchen(&self, o: u32) -> bool {
-        self.in_kitchen[o as usize]
+        self.in_kitchen.get(o)
     }
 
     /// Per object: whether it is in the kitchen.
-    pub(crate) fn kitchen_flags(&self) -> &[bool] {
+    pub(crate) fn kitchen_flags(&self) -> &Layered<bool> {
         &self.in_kitchen
     }
 
@@ -319,8 +359,11 @@ impl Prepared {
     }
 
     /// The choice of `ids` for every object, computed by `init` on first use.
-    pub(crate) fn ids_choice(&self, init: impl FnOnce() -> Result<Vec<u32>>) -> Result<&[u32]> {
-        once(&self.ids_choice, init).map(Vec::as_slice)
+    pub(crate) fn ids_choice(
+        &self,
+        init: impl FnOnce() -> Result<Vec<u32>>,
+    ) -> Result<&Layered<u32>> {
+        once(&self.ids_choice, || init().map(Layered::from_vec))
     }
 
     /// The producer order of greedy heuristic `which` (`0..Greedy::COUNT`), computed by
@@ -344,17 +387,18 @@ impl Prepared {
     }
 
     /// The choice of `ids`, when computed already.
-    pub(crate) fn computed_ids_choice(&self) -> Option<&[u32]> {
-        self.ids_choice.get().map(Vec::as_slice)
+    pub(crate) fn computed_ids_choice(&self) -> Option<&Layered<u32>> {
+        self.ids_choice.get()
     }
 
     /// A kitchen prepared on this one's base and level from its flags and objects (in id
     /// order), nothing computed yet (see [`Prepared::set_computed`] and `incremental.rs`).
-    pub(crate) fn with_parts(&self, in_kitchen: Vec<bool>, kitchen_objects: Vec<u32>) -> Self {
+    pub(crate) fn with_parts(&self, in_kitchen: Layered<bool>, kitchen_objects: Vec<u32>) -> Self {
         Self {
             foon: self.foon,
             base: Arc::clone(&self.base),
             in_kitchen,
+            derived: true,
             kitchen_objects,
             ranks: OnceLock::new(),
             optima: Default::default(),
@@ -370,7 +414,7 @@ impl Prepared {
         &self,
         ranks: Option<Ranks>,
         optima: [Option<Optimum>; Objective::COUNT],
-        ids_choice: Option<Vec<u32>>,
+        ids_choice: Option<Layered<u32>>,
     ) {
         if let Some(r) = ranks {
             let _ = self.ranks.set(r);

@@ -21,24 +21,20 @@ pub(crate) fn planner_with_changes(
     planner: &PyPlanner,
     add: &PyKitchen,
     remove: &PyKitchen,
-    kitchen: &PyKitchen,
+    kitchen: Option<&PyKitchen>,
 ) -> PyResult<PyPlanner> {
     let foon = Arc::clone(&planner.foon);
     let (f, base) = (&*foon, &*planner.prep);
-    let (add, remove, kitchen) = (&*add.inner, &*remove.inner, &*kitchen.inner);
+    let (add, remove) = (&*add.inner, &*remove.inner);
+    let kitchen = kitchen.map(|k| Arc::clone(&k.inner));
     let prep = enter(py, |_| {
-        if base.level() != 3 {
-            let ids = kitchen.match_at_level(f, base.level())?;
-            return base.with_kitchen(f, &ids);
-        }
-        let mut added = add.match_in(f);
-        added.sort_unstable();
-        let removed: Vec<u32> = remove
-            .match_in(f)
-            .into_iter()
-            .filter(|o| added.binary_search(o).is_err())
-            .collect();
-        base.with_delta(f, &added, &removed)
+        base.with_kitchen_changes(f, add, remove, || {
+            kitchen.ok_or_else(|| {
+                foon_core::error::Error::Invalid(
+                    "the new kitchen is needed at identity levels 1 and 2".into(),
+                )
+            })
+        })
     })?;
     Ok(PyPlanner {
         foon,

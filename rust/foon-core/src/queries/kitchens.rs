@@ -66,7 +66,11 @@ impl Entry {
         if let Some(f) = self.fingerprint.get() {
             return Ok(*f);
         }
-        let f = self.kitchen()?.fingerprint();
+        let f = match &self.delta {
+            // From the base's, in the size of the delta.
+            Some(d) if self.items.is_none() => d.base.fingerprint_with_changes(&d.add, &d.remove),
+            _ => self.kitchen()?.fingerprint(),
+        };
         Ok(*self.fingerprint.get_or_init(|| f))
     }
 

@@ -507,11 +507,9 @@ pub enum WaveKitchen {
 }
 
 impl WaveKitchen {
-    /// The prepared kitchen: for a delta kitchen, its `entry` matched at `level` (from its
-    /// own items: at levels 1 and 2 an item removed can leave its objects in the kitchen
-    /// through another item of the same key, so the objects are never derived from the
-    /// delta's items alone) and prepared from its base kitchen's preparation by
-    /// [`Prepared::with_kitchen`], then kept in `cache`.
+    /// The prepared kitchen: for a delta kitchen, prepared from its base kitchen's
+    /// preparation by [`Prepared::with_kitchen_changes`] (at level 3 only the delta's items
+    /// are matched), then kept in `cache`.
     pub fn prepared(
         &self,
         foon: &Foon,
@@ -521,9 +519,9 @@ impl WaveKitchen {
     ) -> Result<Arc<Prepared>> {
         match self {
             Self::Ready(p) => Ok(Arc::clone(p)),
-            Self::Delta { from, key } => cache.get_or_prepare(*key, || {
-                let ids = entry.kitchen()?.match_at_level(foon, level)?;
-                from.with_kitchen(foon, &ids)
+            Self::Delta { from, key } => cache.get_or_prepare(*key, || match entry.delta() {
+                Some(d) => from.with_kitchen_changes(foon, &d.add, &d.remove, || entry.kitchen()),
+                None => from.with_kitchen(foon, &entry.kitchen()?.match_at_level(foon, level)?),
             }),
         }
     }

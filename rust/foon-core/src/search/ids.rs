@@ -162,13 +162,9 @@ fn dls(
 /// (`NONE` for kitchen objects and objects that are not derivable).
 fn choices(ctx: &Context<'_>) -> Result<Vec<u32>> {
     let foon = ctx.foon;
-    let ranks = ctx.ranks().as_slice();
+    let ranks = ctx.ranks();
     let rank = |x: u32| {
-        if ctx.in_kitchen(x) {
-            0
-        } else {
-            ranks[x as usize]
-        }
+        if ctx.in_kitchen(x) { 0 } else { ranks.raw(x) }
     };
     let value: Vec<u32> = (0..foon.fu_count() as u32)
         .map(|f| {
@@ -188,7 +184,7 @@ fn choices(ctx: &Context<'_>) -> Result<Vec<u32>> {
         if o % 65_536 == 0 {
             ctx.check_stop()?;
         }
-        let r = ranks[o as usize];
+        let r = ranks.raw(o);
         if r == NONE || ctx.in_kitchen(o) {
             continue;
         }
@@ -202,7 +198,7 @@ fn choices(ctx: &Context<'_>) -> Result<Vec<u32>> {
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     if !ctx.is_from_scratch() {
         let choice = ctx.ids_choice(|| choices(ctx))?;
-        let e = tree::emit_counted(ctx, goal, |o| choice[o as usize]);
+        let e = tree::emit_counted(ctx, goal, |o| choice.get(o));
         return Ok(Plan {
             units: e.units,
             expanded: e.visited,

@@ -269,11 +269,11 @@ impl Local {
         let made_by = outs.transpose(objs.len());
         let (weight, leaf_cost) = weights(ctx, method, &fus)?;
         let opt = prepared(ctx, method)?.and_then(|o| {
-            let cost: Vec<f64> = objs.iter().map(|&x| o.cost[x as usize]).collect();
-            let depth: Vec<u32> = objs.iter().map(|&x| o.depth[x as usize]).collect();
+            let cost: Vec<f64> = objs.iter().map(|&x| o.cost(x)).collect();
+            let depth: Vec<u32> = objs.iter().map(|&x| o.depth(x)).collect();
             let choice = objs
                 .iter()
-                .map(|&x| match o.choice[x as usize] {
+                .map(|&x| match o.choice(x) {
                     NONE => Some(NONE),
                     f => fus.binary_search(&f).ok().map(|i| i as u32),
                 })
@@ -1392,7 +1392,7 @@ impl KBest {
             None
         } else if let Some(o) = prepared(ctx, method)? {
             // No tree when the optimum is infinite (or the goal not derivable).
-            if !o.cost[goal as usize].is_finite() {
+            if !o.cost(goal).is_finite() {
                 None
             } else if let Some(g) = AncestryCache::get(ctx, goal, method) {
                 Some(g)
@@ -1475,8 +1475,8 @@ impl KBest {
         if self.pending {
             self.pending = false;
             if let Some(o) = prepared(ctx, self.method)? {
-                let units = tree::emit(ctx, self.goal, |x| o.choice[x as usize]);
-                let cost = self.reported(o.cost[self.goal as usize]);
+                let units = tree::emit(ctx, self.goal, |x| o.choice(x));
+                let cost = self.reported(o.cost(self.goal));
                 self.evaluations = 1;
                 self.given = Some(units.clone());
                 return Ok(Some(Ranked {

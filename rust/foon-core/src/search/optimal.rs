@@ -423,11 +423,7 @@ pub(crate) fn knuth_all(
             depth.push(0);
         }
     }
-    Ok(Optimum {
-        cost,
-        choice,
-        depth,
-    })
+    Ok(Optimum::from_vecs(cost, choice, depth))
 }
 
 /// The optimum of `objective` for the context's kitchen (computed on first use). The
@@ -488,14 +484,14 @@ enum Costs<'c> {
 impl Costs<'_> {
     fn cost(&self, o: u32) -> f64 {
         match self {
-            Self::Shared(k) => k.cost[o as usize],
+            Self::Shared(k) => k.cost(o),
             Self::Own(k) => k.cost.get(o),
         }
     }
 
     fn choice(&self, o: u32) -> u32 {
         match self {
-            Self::Shared(k) => k.choice[o as usize],
+            Self::Shared(k) => k.choice(o),
             Self::Own(k) => k.choice.get(o),
         }
     }
