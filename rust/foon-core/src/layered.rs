@@ -255,7 +255,7 @@ mod tests {
             let n = 1 + next(3000) as usize;
             let mut want: Vec<f64> = (0..n).map(|i| i as f64).collect();
             let mut col = Layered::from_vec(want.clone());
-            for _ in 0..1 + next(5) {
+            for _ in 0..=next(5) {
                 let mut e = col.edit();
                 let edits = if round % 7 == 0 { n } else { next(8) as usize };
                 for _ in 0..edits {
