@@ -129,7 +129,7 @@ type Key = Reverse<(u64, u32, u32)>;
 /// A pass that reaches more than one object in `REACH_SHARE` (and more than `REACH_MIN`)
 /// stops: the part is then computed from scratch on first use, which costs less than an
 /// update of that size (a delta that removes an item much of the FOON is made from).
-const REACH_SHARE: usize = 16;
+const REACH_SHARE: usize = 4;
 const REACH_MIN: usize = 1024;
 
 /// Updates `store` (the values before the change) to the values after it, the leaves that
