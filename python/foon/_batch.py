@@ -706,10 +706,26 @@ def batch(
     t0 = time.perf_counter()
     try:
         if engine == "local":
-            for k, t in todo:
-                res = _arrow.plan_table(f, ks, t, threads=threads, motions=rates,
-                                        utensils=tools, default_rate=default_rate)  # fmt: skip
-                record(k, write_partition(opath, k, res))
+            # Chunk k is written (and hashed) by a writer thread while chunk k + 1 is
+            # planned (both release the GIL); partitions are recorded in order, each once it
+            # is whole, so at most two chunks' answers are held at a time.
+            # An interrupted or failed run still records the partition being written.
+            from concurrent.futures import Future, ThreadPoolExecutor
+
+            with ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-writer") as w:
+                writing: tuple[int, Future[dict[str, Any]]] | None = None
+                try:
+                    for k, t in todo:
+                        res = _arrow.plan_table(f, ks, t, threads=threads, motions=rates,
+                                                utensils=tools, default_rate=default_rate)  # fmt: skip
+                        if writing is not None:
+                            done_k, entry = writing[0], writing[1].result()
+                            writing = None
+                            record(done_k, entry)
+                        writing = (k, w.submit(write_partition, opath, k, res))
+                finally:
+                    if writing is not None:
+                        record(writing[0], writing[1].result())
         else:
             from foon import _dask
 

@@ -267,7 +267,7 @@ impl TreeView for Global<'_> {
     #[inline]
     fn for_made(&self, f: u32, mut each: impl FnMut(u32)) {
         for &y in self.foon.outputs(f) {
-            if !self.prep.in_kitchen(y) && !self.foon.is_bare(y) {
+            if !self.prep.in_kitchen(y) && !self.prep.is_bare(y) {
                 each(y);
             }
         }

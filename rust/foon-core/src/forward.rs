@@ -95,7 +95,7 @@ pub(crate) fn ranks(foon: &Foon, prep: &Prepared, extra: Option<&[bool]>) -> Ran
         .collect();
     let fire = |f: u32, r: u32, rank: &mut Vec<u32>, queue: &mut VecDeque<u32>| {
         for &y in foon.outputs(f) {
-            if rank[y as usize] == NONE && !foon.is_bare(y) {
+            if rank[y as usize] == NONE && !prep.is_bare(y) {
                 rank[y as usize] = r;
                 queue.push_back(y);
             }

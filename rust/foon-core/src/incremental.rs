@@ -198,7 +198,7 @@ fn pass(
         if (rules.is_leaf)(y) {
             store.set(y, rules.leaf, NONE);
             heap.push(Reverse((rules.leaf.0.to_bits(), rules.leaf.1, y)));
-        } else if !foon.is_bare(y) {
+        } else if !prep.is_bare(y) {
             for &f in foon.producers(y) {
                 if available(&*store, &mark, f) {
                     let v = (rules.value)(&*store, f);
@@ -230,7 +230,7 @@ fn pass(
                 continue;
             }
             for &y in foon.outputs(f) {
-                if (rules.is_leaf)(y) || foon.is_bare(y) || mark[y as usize] & DONE != 0 {
+                if (rules.is_leaf)(y) || prep.is_bare(y) || mark[y as usize] & DONE != 0 {
                     continue;
                 }
                 offer(store, &mut heap, y, f, v);

@@ -1147,5 +1147,23 @@ mod tests {
             let json = crate::write::json::objects_json(&k.specs()).unwrap();
             prop_assert!(Kitchen::parse(json.as_bytes(), None).unwrap() == k);
         }
+
+        /// The fingerprint of a kitchen changed by a delta, from the base's, is the changed
+        /// kitchen's (items removed and added again, added and already there, removed and
+        /// absent).
+        #[test]
+        fn delta_fingerprints_are_the_kitchens(base in specs(), add in specs(), remove in specs()) {
+            let (k, a, r) = (
+                Kitchen::from_specs(&base).unwrap(),
+                Kitchen::from_specs(&add).unwrap(),
+                Kitchen::from_specs(&remove).unwrap(),
+            );
+            let built = k.without(&r).with(&a).unwrap();
+            prop_assert_eq!(k.fingerprint_with_changes(&a, &r), built.fingerprint());
+            // Without computing the base's first, and with the delta's items in the base.
+            let (k2, r2) = (Kitchen::from_specs(&base).unwrap(), k.without(&a));
+            let built2 = k2.without(&r2).with(&a).unwrap();
+            prop_assert_eq!(k2.fingerprint_with_changes(&a, &r2), built2.fingerprint());
+        }
     }
 }

@@ -52,6 +52,14 @@ struct Changes<T> {
     values: FxHashMap<u32, T>,
 }
 
+impl<T: Copy> Changes<T> {
+    /// The changed value of `i` (marked in `bits`): out of the readers' inner loops.
+    #[inline(never)]
+    fn changed(&self, i: u32) -> T {
+        self.values[&i]
+    }
+}
+
 /// One value per object: a shared column and the changes of this kitchen (see the module
 /// documentation). Cloning it shares both.
 #[derive(Debug, Clone)]
@@ -76,13 +84,13 @@ impl<T: Value> Layered<T> {
     /// The value of object `i` (`i < len`).
     #[inline]
     pub(crate) fn get(&self, i: u32) -> T {
-        let i = i as usize;
+        let u = i as usize;
         if let Some(c) = &self.changes
-            && (c.bits[i >> 6] >> (i & 63)) & 1 != 0
+            && (c.bits[u >> 6] >> (u & 63)) & 1 != 0
         {
-            return c.values[&(i as u32)];
+            return c.changed(i);
         }
-        self.shared[i]
+        self.shared[u]
     }
 
     /// The values in object order.

@@ -64,6 +64,9 @@ pub struct PreparedBase {
     rates_given: bool,
     /// Whether every FU's motion has a rate.
     all_rated: bool,
+    /// One bit per object: whether it is bare ([`Foon::is_bare`], read by every search's
+    /// inner loop, here without the index's columns).
+    bare: Vec<u64>,
     /// Per greedy heuristic: each object's producers in its order, and the course's choice.
     greedy: [OnceLock<Greedy>; Greedy::COUNT],
 }
@@ -304,6 +307,12 @@ impl Prepared {
         self.base.needed.row(fu)
     }
 
+    /// [`Foon::is_bare`] of object `o` of the FOON these inputs were prepared for.
+    #[inline]
+    pub(crate) fn is_bare(&self, o: u32) -> bool {
+        (self.base.bare[o as usize >> 6] >> (o & 63)) & 1 != 0
+    }
+
     /// The FUs where `o` is a needed input (one entry per slot).
     #[inline]
     pub(crate) fn needed_by(&self, o: u32) -> &[u32] {
@@ -468,6 +477,12 @@ impl PreparedBase {
             })
             .collect();
         let all_rated = fu_rate.iter().all(|r| !r.is_nan());
+        let mut bare = vec![0u64; n.div_ceil(64)];
+        for o in 0..n as u32 {
+            if foon.is_bare(o) {
+                bare[o as usize >> 6] |= 1 << (o & 63);
+            }
+        }
         Ok(Self {
             foon: foon.fingerprint(),
             key: Self::key_of(utensils, rates, default_rate),
@@ -477,6 +492,7 @@ impl PreparedBase {
             fu_rate,
             rates_given: rates.is_some() || default_rate.is_some(),
             all_rated,
+            bare,
             greedy: Default::default(),
         })
     }

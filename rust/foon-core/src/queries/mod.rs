@@ -805,8 +805,8 @@ fn answer_rows(
             rows_here.iter().map(|_| OnceLock::new()).collect();
         // What a prepared kitchen computes on first use (ranks, optima, the choices of
         // `ids`) is computed by the first row of each (kitchen, query) alone: a worker takes
-        // a group, prepares its kitchen and plans those rows, then the other rows of the
-        // wave run, so that two workers do not compute the same thing for one kitchen at
+        // a group, prepares its kitchen and plans those rows, and the group's other rows run
+        // after them, so that two workers do not compute the same thing for one kitchen at
         // once.
         let mut leaders: Vec<Vec<usize>> = vec![Vec::new(); wave_hi - wave_lo];
         let mut followers = Vec::new();
@@ -822,11 +822,29 @@ fn answer_rows(
             let _ = slots[j].set(one(&rows_here[j].1));
             slots[j].get().is_some_and(Result::is_ok)
         };
-        let in_wave: Vec<usize> = (0..wave_hi - wave_lo).collect();
-        plan_rows(&in_wave, workers, cancel, &|g| {
-            leaders[g].iter().all(|&j| !cancel() && run_row(j))
+        // One schedule: the groups (each a worker's: its kitchen, then its leading rows),
+        // then the other rows in group order, each waiting, if it comes to it first, until
+        // its group's leading rows are done (set even when they fail, so no row waits for
+        // ever), so that the rows of the groups done start while a long group is prepared.
+        let n_groups = wave_hi - wave_lo;
+        let led: Vec<AtomicBool> = (0..n_groups).map(|_| AtomicBool::new(false)).collect();
+        let items: Vec<usize> = (0..n_groups + followers.len()).collect();
+        plan_rows(&items, workers, cancel, &|i| {
+            if i < n_groups {
+                let ok = leaders[i].iter().all(|&j| !cancel() && run_row(j));
+                led[i].store(true, Ordering::Release);
+                return ok;
+            }
+            let j = followers[i - n_groups];
+            let g = rows_here[j].1.group - wave_lo;
+            while !led[g].load(Ordering::Acquire) {
+                if cancel() {
+                    return false;
+                }
+                std::thread::sleep(std::time::Duration::from_micros(200));
+            }
+            run_row(j)
         })?;
-        plan_rows(&followers, workers, cancel, &run_row)?;
         for (slot, (i, _)) in slots.into_iter().zip(rows_here) {
             match slot.into_inner() {
                 Some(Ok(a)) => answers[*i] = Some(a),
