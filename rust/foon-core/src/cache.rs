@@ -271,7 +271,14 @@ impl PreparedCache {
         if let Some(p) = self.get(&key) {
             return Ok(p);
         }
-        let p = Arc::new(prepare()?);
+        Ok(self.insert(key, prepare()?))
+    }
+
+    /// Keeps `p` under `key` (after a [`PreparedCache::get`] of `key` missed: the miss is
+    /// counted there) and returns what is kept: `p`, or the kitchen another thread kept under
+    /// `key` meanwhile.
+    pub fn insert(&self, key: CacheKey, p: Prepared) -> Arc<Prepared> {
+        let p = Arc::new(p);
         let bytes = p.heap_bytes();
         let mut s = self.lock();
         let kept = s.kitchens.insert(key, p, bytes);
@@ -279,7 +286,7 @@ impl PreparedCache {
             .kitchens
             .trim(self.limits.max_entries, self.limits.max_bytes);
         s.evictions += dropped;
-        Ok(kept)
+        kept
     }
 
     /// `kitchen` matched in `foon` at identity `level` (see

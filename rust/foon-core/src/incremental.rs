@@ -708,6 +708,19 @@ mod tests {
         }
     }
 
+    /// The kitchen `kitchen` without `removed`, then with `added`: sorted, each once.
+    fn changed_kitchen(kitchen: &[u32], added: &[u32], removed: &[u32]) -> Vec<u32> {
+        let mut new: Vec<u32> = kitchen
+            .iter()
+            .copied()
+            .filter(|o| !removed.contains(o))
+            .chain(added.iter().copied())
+            .collect();
+        new.sort_unstable();
+        new.dedup();
+        new
+    }
+
     /// Random FOONs, kitchens and deltas (additions, removals, both, an id in both lists,
     /// repeats): the incremental preparation equals the one from scratch in every component
     /// the base had computed, and plans from it equal plans from scratch.
@@ -744,14 +757,7 @@ mod tests {
             let inc = base
                 .with_delta_reaching(&foon, &added, &removed, limit)
                 .unwrap();
-            let mut new: Vec<u32> = kitchen
-                .iter()
-                .copied()
-                .filter(|o| !removed.contains(o))
-                .chain(added.iter().copied())
-                .collect();
-            new.sort_unstable();
-            new.dedup();
+            let new = changed_kitchen(&kitchen, &added, &removed);
             changed += usize::from(new != kitchen);
             let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
             assert_same(&foon, &base, &inc, &fresh, limit == usize::MAX);
@@ -760,14 +766,7 @@ mod tests {
             let inc2 = inc
                 .with_delta_reaching(&foon, &added2, &removed2, limit)
                 .unwrap();
-            let mut new2: Vec<u32> = new
-                .iter()
-                .copied()
-                .filter(|o| !removed2.contains(o))
-                .chain(added2.iter().copied())
-                .collect();
-            new2.sort_unstable();
-            new2.dedup();
+            let new2 = changed_kitchen(&new, &added2, &removed2);
             let fresh2 = Prepared::with_base(&foon, base.base().clone(), &new2).unwrap();
             assert_same(&foon, &inc, &inc2, &fresh2, limit == usize::MAX);
             // Plans read from either are the same (what is not computed is computed now).

@@ -641,31 +641,48 @@ fn set_fingerprint(len: usize, sum: u128) -> u128 {
 /// The magic of [`Kitchen::to_bytes`]: the format's name and version.
 const MAGIC: &[u8; 8] = b"FOONKIT1";
 
-/// Reads little-endian `u32`s from a byte slice, any shortfall an error.
-struct Reader<'a>(&'a [u8]);
+/// Reads the little-endian values of a serialised form from a byte slice, any shortfall an
+/// error (from `error`, which names the form): the reader of [`Kitchen::from_bytes`] and of
+/// [`KitchenSet::from_bytes`](crate::queries::KitchenSet::from_bytes).
+pub(crate) struct Reader<'a> {
+    pub(crate) rest: &'a [u8],
+    error: fn(&str) -> Error,
+}
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        if self.0.len() < n {
-            return Err(bytes_error("truncated"));
+    pub(crate) fn new(data: &'a [u8], error: fn(&str) -> Error) -> Self {
+        Self { rest: data, error }
+    }
+
+    pub(crate) fn take(&mut self, n: usize) -> Result<&'a [u8]> {
+        if self.rest.len() < n {
+            return Err((self.error)("truncated"));
         }
-        let (a, b) = self.0.split_at(n);
-        self.0 = b;
+        let (a, b) = self.rest.split_at(n);
+        self.rest = b;
         Ok(a)
     }
 
-    fn u32(&mut self) -> Result<u32> {
+    pub(crate) fn u32(&mut self) -> Result<u32> {
         let b = self.take(4)?;
         Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     }
 
-    fn count(&mut self) -> Result<usize> {
+    pub(crate) fn count(&mut self) -> Result<usize> {
         let n = self.u32()? as usize;
         // Every counted thing takes at least one byte: a larger count is a corrupt header.
-        if n > self.0.len() {
-            return Err(bytes_error("a count is larger than the data"));
+        if n > self.rest.len() {
+            return Err((self.error)("a count is larger than the data"));
         }
         Ok(n)
+    }
+
+    /// A length-prefixed (`u64`) run of bytes.
+    pub(crate) fn blob(&mut self) -> Result<&'a [u8]> {
+        let b = self.take(8)?;
+        let n = u64::from_le_bytes(b.try_into().unwrap_or([0; 8]));
+        let n = usize::try_from(n).map_err(|_| (self.error)("a length is too large"))?;
+        self.take(n)
     }
 }
 
@@ -712,7 +729,7 @@ impl Kitchen {
     /// an error, never a panic: every index is checked, the kitchen is rebuilt item by item
     /// and its fingerprint must be the one recorded.
     pub fn from_bytes(data: &[u8]) -> Result<Self> {
-        let mut r = Reader(data);
+        let mut r = Reader::new(data, bytes_error);
         if r.take(8)? != MAGIC {
             return Err(bytes_error("wrong magic or version"));
         }
@@ -753,7 +770,7 @@ impl Kitchen {
                 return Err(bytes_error("an item repeats"));
             }
         }
-        if !r.0.is_empty() {
+        if !r.rest.is_empty() {
             return Err(bytes_error("trailing bytes"));
         }
         let k = k.finish()?;

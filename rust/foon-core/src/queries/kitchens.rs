@@ -11,7 +11,7 @@ use serde::de::{MapAccess, Visitor};
 use serde_json::value::RawValue;
 
 use crate::error::{Error, InputKind, Result};
-use crate::kitchen::Kitchen;
+use crate::kitchen::{Kitchen, Reader};
 
 /// A kitchen given as a base plus a delta: the base (shared by every kitchen of the set built
 /// on it), the items added and the items removed. The kitchen is the base without the
@@ -378,7 +378,7 @@ impl KitchenSet {
 
     /// Reads [`KitchenSet::to_bytes`] (anything else is an error, never a panic).
     pub fn from_bytes(data: &[u8]) -> Result<Self> {
-        let mut r = Bytes(data);
+        let mut r = Reader::new(data, bytes_error);
         if r.take(8)? != MAGIC {
             return Err(bytes_error("wrong magic or version"));
         }
@@ -411,7 +411,7 @@ impl KitchenSet {
             s.push(id, entry)
                 .map_err(|_| bytes_error("a kitchen id is repeated"))?;
         }
-        if !r.0.is_empty() {
+        if !r.rest.is_empty() {
             return Err(bytes_error("trailing bytes"));
         }
         Ok(s)
@@ -425,39 +425,6 @@ fn put_u32(out: &mut Vec<u8>, x: u32) {
 fn put_blob(out: &mut Vec<u8>, b: &[u8]) {
     out.extend_from_slice(&(b.len() as u64).to_le_bytes());
     out.extend_from_slice(b);
-}
-
-struct Bytes<'a>(&'a [u8]);
-
-impl<'a> Bytes<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        if self.0.len() < n {
-            return Err(bytes_error("truncated"));
-        }
-        let (a, b) = self.0.split_at(n);
-        self.0 = b;
-        Ok(a)
-    }
-
-    fn u32(&mut self) -> Result<u32> {
-        let b = self.take(4)?;
-        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
-
-    fn count(&mut self) -> Result<usize> {
-        let n = self.u32()? as usize;
-        if n > self.0.len() {
-            return Err(bytes_error("a count is larger than the data"));
-        }
-        Ok(n)
-    }
-
-    fn blob(&mut self) -> Result<&'a [u8]> {
-        let b = self.take(8)?;
-        let n = u64::from_le_bytes(b.try_into().unwrap_or([0; 8]));
-        let n = usize::try_from(n).map_err(|_| bytes_error("a length is too large"))?;
-        self.take(n)
-    }
 }
 
 /// 1-based line and character column of byte `at` of `data`.

@@ -31,6 +31,7 @@ pub use kitchens::{Delta, Entry, KitchenSet};
 use crate::cache::{CacheKey, PreparedCache};
 use crate::error::{Error, InputKind, Result};
 use crate::index::Foon;
+use crate::kitchen::Kitchen;
 use crate::model::{MotionRates, ObjectSpec, check_rate};
 use crate::multi::prepare_many;
 use crate::prepare::{Prepared, PreparedBase};
@@ -519,10 +520,18 @@ impl WaveKitchen {
     ) -> Result<Arc<Prepared>> {
         match self {
             Self::Ready(p) => Ok(Arc::clone(p)),
-            Self::Delta { from, key } => cache.get_or_prepare(*key, || match entry.delta() {
-                Some(d) => from.with_kitchen_changes(foon, &d.add, &d.remove, || entry.kitchen()),
-                None => from.with_kitchen(foon, &entry.kitchen()?.match_at_level(foon, level)?),
-            }),
+            // `prepare_wave` found no kitchen of `key` in the cache.
+            Self::Delta { from, key } => Ok(cache.insert(
+                *key,
+                match entry.delta() {
+                    Some(d) => {
+                        from.with_kitchen_changes(foon, &d.add, &d.remove, || entry.kitchen())?
+                    }
+                    None => {
+                        from.with_kitchen(foon, &entry.kitchen()?.match_at_level(foon, level)?)?
+                    }
+                },
+            )),
         }
     }
 }
@@ -583,15 +592,32 @@ pub fn prepare_wave(
     let mut bases: Vec<_> = by_base.into_iter().collect();
     bases.sort_unstable_by_key(|(_, v)| v[0]);
     for (_, idx) in bases {
-        let ids: Vec<Vec<u32>> = idx
+        // The kitchens matched together, per level (`Kitchen::match_many`: each distinct
+        // string and item looked up once).
+        let kitchens: Vec<Arc<Kitchen>> = idx
             .iter()
-            .map(|&i| wave[i].1.kitchen()?.match_at_level(foon, wave[i].2))
+            .map(|&i| wave[i].1.kitchen())
             .collect::<Result<_>>()?;
+        let mut ids: Vec<Vec<u32>> = vec![Vec::new(); idx.len()];
+        let mut levels: Vec<u8> = idx.iter().map(|&i| wave[i].2).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        for level in levels {
+            let at: Vec<usize> = (0..idx.len())
+                .filter(|&j| wave[idx[j]].2 == level)
+                .collect();
+            let ks: Vec<&Kitchen> = at.iter().map(|&j| &*kitchens[j]).collect();
+            for (j, m) in at.into_iter().zip(Kitchen::match_many(&ks, foon, level)?) {
+                ids[j] = m;
+            }
+        }
         let refs: Vec<&[u32]> = ids.iter().map(Vec::as_slice).collect();
         let prepared = prepare_many(foon, &wave[idx[0]].0, &refs, opts)?;
         for (&i, p) in idx.iter().zip(prepared) {
-            let p = p.at_level(wave[i].2);
-            out[i] = Some(WaveKitchen::Ready(cache.get_or_prepare(keys[i], || Ok(p))?));
+            // `cache.get` missed for every kitchen here.
+            out[i] = Some(WaveKitchen::Ready(
+                cache.insert(keys[i], p.at_level(wave[i].2)),
+            ));
         }
     }
     let mut delta_bases: Vec<_> = by_delta_base.into_values().collect();
