@@ -15,14 +15,35 @@ if TYPE_CHECKING:
 class RankedTree:
     """One tree of a k-best list or of an enumeration: its ``rank`` (1 is the first), its
     ``cost`` (the objective's figure: success probability, unit count or kitchen-input count)
-    and the :class:`foon.TaskTree` itself."""
+    and the :class:`foon.TaskTree` itself (built from the core's plan when first read)."""
 
-    __slots__ = ("cost", "rank", "tree")
+    __slots__ = ("_plan", "_planner", "_tree", "cost", "rank")
 
     def __init__(self, rank: int, cost: float, tree: TaskTree) -> None:
         self.rank = rank
         self.cost = cost
-        self.tree = tree
+        self._tree: TaskTree | None = tree
+        self._plan: _foon.Plan | None = None
+        self._planner: Planner | None = None
+
+    @property
+    def tree(self) -> TaskTree:
+        """The tree as a :class:`foon.TaskTree`."""
+        t = self._tree
+        if t is None:
+            from . import TaskTree
+
+            planner = self._planner
+            assert planner is not None and self._plan is not None
+            t = self._tree = TaskTree(planner.foon, self._plan, planner)
+        return t
+
+    @tree.setter
+    def tree(self, tree: TaskTree) -> None:
+        self._tree = tree
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (RankedTree, (self.rank, self.cost, self.tree))
 
     @property
     def units(self) -> list[int]:
@@ -56,11 +77,24 @@ class RankedTree:
 
 
 def _ranked(planner: Planner, plans: Iterator[_foon.Plan]) -> Iterator[RankedTree]:
-    from . import TaskTree
-
     for i, p in enumerate(plans, 1):
-        assert p.cost is not None
-        yield RankedTree(i, p.cost, TaskTree(planner.foon, p, planner))
+        yield _lazy(i, p, planner)
+
+
+def _lazy(rank: int, plan: _foon.Plan, planner: Planner) -> RankedTree:
+    """A ranked tree whose :class:`foon.TaskTree` is built when first read."""
+    cost = plan.cost
+    assert cost is not None
+    r = _new(RankedTree)
+    r.rank = rank
+    r.cost = cost
+    r._tree = None
+    r._plan = plan
+    r._planner = planner
+    return r
+
+
+_new = object.__new__
 
 
 def plan_k(planner: Planner, goal: int, k: int, method: str, diverse: bool) -> list[RankedTree]:
@@ -69,7 +103,7 @@ def plan_k(planner: Planner, goal: int, k: int, method: str, diverse: bool) -> l
     if k < 1:
         raise ValueError(f"k must be at least 1, not {k}")
     plans = _foon.plan_k(planner._native, goal, method, k, diverse)
-    return list(_ranked(planner, iter(plans)))
+    return [_lazy(i, p, planner) for i, p in enumerate(plans, 1)]
 
 
 def _limit(name: str, v: int | None) -> int | None:

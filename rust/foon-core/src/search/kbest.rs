@@ -67,6 +67,47 @@ pub(super) struct Local {
     /// With the optimum: the objects whose optimum's unit needs each object (once per needed
     /// slot).
     opt_users: Lists,
+    /// Buffers of finished enumerations over this graph, for the next ones (at most
+    /// `Buffers::KEPT`).
+    pool: Mutex<Vec<Buffers>>,
+}
+
+/// The buffers of one enumeration over a [`Local`] (all sized to it), kept between calls.
+struct Buffers {
+    work: Work,
+    read: ReadScratch,
+    bounds: Bounds,
+}
+
+impl Buffers {
+    /// How many a graph keeps (one per thread enumerating it at once).
+    const KEPT: usize = 4;
+}
+
+impl Local {
+    fn lock_pool(&self) -> std::sync::MutexGuard<'_, Vec<Buffers>> {
+        // A poisoned lock only means a thread panicked while holding it: the list is whole.
+        self.pool
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Buffers for an enumeration: kept ones, or new.
+    fn buffers(&self) -> Buffers {
+        self.lock_pool().pop().unwrap_or_else(|| Buffers {
+            work: Work::new(self),
+            read: ReadScratch::new(self),
+            bounds: Bounds::default(),
+        })
+    }
+
+    /// Keeps an enumeration's buffers for the next one.
+    fn keep(&self, b: Buffers) {
+        let mut pool = self.lock_pool();
+        if pool.len() < Buffers::KEPT {
+            pool.push(b);
+        }
+    }
 }
 
 /// The kitchen's optimum over a goal's ancestry, in local ids: each object's final cost, tie
@@ -307,6 +348,7 @@ impl Local {
             leaf_cost,
             opt,
             opt_users,
+            pool: Mutex::new(Vec::new()),
         })
     }
 }
@@ -325,7 +367,13 @@ struct Solved {
     preorder: Vec<(u32, u32)>,
     /// Units (global ids) in depth-first post-order.
     units: Vec<u32>,
+    /// Per pre-order position: the object's cost in the tree, and the place of its unit in
+    /// `units` (a post-order of the objects).
+    vals: Vec<(f64, u32)>,
 }
+
+/// A tree read from choices: `Solved`'s pre-order, units and values.
+type ReadTree = (Vec<(u32, u32)>, Vec<u32>, Vec<(f64, u32)>);
 
 /// What `solve_seeded` found: the best tree, no tree, or that the full run is needed.
 enum Seeded {
@@ -428,11 +476,12 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return None;
         }
-        let (preorder, units) = self.read(|o| work.choice[o as usize], scratch);
+        let (preorder, units, vals) = self.read(w, |o| work.choice[o as usize], scratch);
         Some(Solved {
             cost: work.cost[g],
             preorder,
             units,
+            vals,
         })
     }
 
@@ -548,11 +597,12 @@ impl Local {
             if !ocost[g].is_finite() {
                 return Seeded::Empty;
             }
-            let (preorder, units) = self.read(|o| ochoice[o as usize], scratch);
+            let (preorder, units, vals) = self.read(w, |o| ochoice[o as usize], scratch);
             return Seeded::Tree(Solved {
                 cost: ocost[g],
                 preorder,
                 units,
+                vals,
             });
         }
         work.epoch = work.epoch.wrapping_add(1);
@@ -604,7 +654,8 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return Seeded::Empty;
         }
-        let (preorder, units) = self.read(
+        let (preorder, units, vals) = self.read(
+            w,
             |o| {
                 if work.stamp[o as usize] == e {
                     work.choice[o as usize]
@@ -618,6 +669,7 @@ impl Local {
             cost: work.cost[g],
             preorder,
             units,
+            vals,
         })
     }
 
@@ -731,52 +783,79 @@ impl Local {
     }
 
     /// The tree of the choices from the goal: (pre-order objects with their choices, units in
-    /// depth-first post-order), as `tree::emit` reads them.
-    fn read(
-        &self,
-        choice: impl Fn(u32) -> u32,
-        scratch: &mut ReadScratch,
-    ) -> (Vec<(u32, u32)>, Vec<u32>) {
+    /// depth-first post-order, each object's cost in the tree under the weights `w` and the
+    /// place of its unit among the units), as `tree::emit` reads them. An object's cost is its
+    /// unit's weight plus its inputs' costs, added in input order.
+    fn read(&self, w: &[f64], choice: impl Fn(u32) -> u32, scratch: &mut ReadScratch) -> ReadTree {
         let e = scratch.next_epoch(self);
         let ReadScratch {
             seen,
             emitted,
             stack,
             size,
+            oval,
+            uval,
             ..
         } = scratch;
         // Room for a tree as large as the last one read, and a few more.
         let mut pre = Vec::with_capacity(size.0 + 8);
+        let mut vals = Vec::with_capacity(size.0 + 8);
         let mut units = Vec::with_capacity(size.1 + 8);
         stack.clear();
-        let mut visit = |o: u32, stack: &mut Vec<(u32, usize)>, emitted: &[u32]| {
+        // An object's unit is pushed (with the object's place in `pre`) unless emitted
+        // already: then the object's cost is that unit's (the choices are acyclic, so a unit
+        // on the stack is never reached again from its inputs).
+        let mut visit = |o: u32,
+                         stack: &mut Vec<(u32, usize, u32)>,
+                         pre: &mut Vec<(u32, u32)>,
+                         vals: &mut Vec<(f64, u32)>,
+                         emitted: &[u32],
+                         oval: &mut [f64],
+                         uval: &[(f64, u32)]| {
             if self.leaf[o as usize] || seen[o as usize] == e {
                 return;
             }
             seen[o as usize] = e;
             let f = choice(o);
+            let j = pre.len() as u32;
             pre.push((o, f));
-            if emitted[f as usize] != e {
-                stack.push((f, 0));
+            if emitted[f as usize] == e {
+                oval[o as usize] = uval[f as usize].0;
+                vals.push(uval[f as usize]);
+            } else {
+                vals.push((f64::NAN, 0));
+                stack.push((f, 0, j));
             }
         };
-        visit(self.goal, stack, emitted);
-        while let Some(&mut (f, ref mut i)) = stack.last_mut() {
+        visit(self.goal, stack, &mut pre, &mut vals, emitted, oval, uval);
+        while let Some(&mut (f, ref mut i, j)) = stack.last_mut() {
             let ins = &self.needed[f as usize];
             if *i < ins.len() {
                 let x = ins[*i];
                 *i += 1;
-                visit(x, stack, emitted);
+                visit(x, stack, &mut pre, &mut vals, emitted, oval, uval);
             } else {
                 stack.pop();
-                if emitted[f as usize] != e {
-                    emitted[f as usize] = e;
-                    units.push(self.fus[f as usize]);
+                let fi = f as usize;
+                if emitted[fi] != e {
+                    emitted[fi] = e;
+                    let mut v = w[fi];
+                    for &x in ins {
+                        v += if self.leaf[x as usize] {
+                            self.leaf_cost
+                        } else {
+                            oval[x as usize]
+                        };
+                    }
+                    uval[fi] = (v, units.len() as u32);
+                    units.push(self.fus[fi]);
                 }
+                oval[pre[j as usize].0 as usize] = uval[fi].0;
+                vals[j as usize] = uval[fi];
             }
         }
         *size = (pre.len(), units.len());
-        (pre, units)
+        (pre, units, vals)
     }
 
     /// `Context::metrics` of a tree of this graph (`preorder`: its objects with their local
@@ -869,9 +948,12 @@ struct ReadScratch {
     epoch: u32,
     seen: Vec<u32>,
     emitted: Vec<u32>,
-    stack: Vec<(u32, usize)>,
+    stack: Vec<(u32, usize, u32)>,
     /// The last tree read: its pre-order's and its units' lengths.
     size: (usize, usize),
+    /// The costs in the tree being read: of its objects, and of its units with their places.
+    oval: Vec<f64>,
+    uval: Vec<(f64, u32)>,
 }
 
 impl ReadScratch {
@@ -882,6 +964,8 @@ impl ReadScratch {
             emitted: vec![0; g.fus.len()],
             stack: Vec::new(),
             size: (0, 0),
+            oval: vec![0.0; g.objs.len()],
+            uval: vec![(0.0, 0); g.fus.len()],
         }
     }
 
@@ -909,19 +993,142 @@ struct Bounds {
     stamp: Vec<u32>,
     pos: Vec<u32>,
     fixed: Vec<u32>,
-    /// Per pre-order position: cost in the tree, post-order position, DFS state.
+    /// Per pre-order position: cost in the tree, place in a post-order.
     val: Vec<f64>,
     post: Vec<u32>,
-    state: Vec<u8>,
     /// The tree objects whose units need each one (CSR over pre-order positions).
     start: Vec<u32>,
     users: Vec<u32>,
+    /// `start` and `users` are those of the tree set up.
+    has_users: bool,
     /// One child: its recomputed values (stamped by `child`), the positions to recompute.
     child: u32,
     dirty: Vec<u32>,
     nval: Vec<f64>,
     list: Vec<u32>,
-    stack: Vec<(u32, usize)>,
+}
+
+impl Bounds {
+    /// The per-tree values of a listed subspace's tree (its pre-order `preorder` and its
+    /// `Solved::vals`): its objects' pre-order positions, their costs in the tree and their
+    /// places in a post-order.
+    fn setup(&mut self, g: &Local, preorder: &[(u32, u32)], vals: &[(f64, u32)]) {
+        let b = self;
+        let no = g.objs.len();
+        if b.stamp.len() != no {
+            b.stamp = vec![0; no];
+            b.pos = vec![0; no];
+            b.fixed = vec![0; no];
+            b.epoch = 0;
+        }
+        b.epoch = b.epoch.wrapping_add(1);
+        if b.epoch == 0 {
+            b.stamp.fill(0);
+            b.fixed.fill(0);
+            b.epoch = 1;
+        }
+        let e = b.epoch;
+        for (j, &(o, _)) in preorder.iter().enumerate() {
+            b.stamp[o as usize] = e;
+            b.pos[o as usize] = j as u32;
+        }
+        b.val.clear();
+        b.val.extend(vals.iter().map(|v| v.0));
+        b.post.clear();
+        b.post.extend(vals.iter().map(|v| v.1));
+        b.has_users = false;
+    }
+
+    /// The tree objects whose units need each one (CSR over pre-order positions), and the
+    /// room for one child's values: only for a tree with a child to recompute.
+    fn users(&mut self, g: &Local, preorder: &[(u32, u32)]) {
+        let b = self;
+        b.has_users = true;
+        let m = preorder.len();
+        b.start.clear();
+        b.start.resize(m + 1, 0);
+        for &(_, f) in preorder {
+            for &x in &g.needed[f as usize] {
+                if !g.leaf[x as usize] {
+                    b.start[b.pos[x as usize] as usize + 1] += 1;
+                }
+            }
+        }
+        for j in 0..m {
+            b.start[j + 1] += b.start[j];
+        }
+        b.users.clear();
+        b.users.resize(b.start[m] as usize, 0);
+        b.list.clear();
+        b.list.extend_from_slice(&b.start[..m]);
+        for (q, &(_, f)) in preorder.iter().enumerate() {
+            for &x in &g.needed[f as usize] {
+                if !g.leaf[x as usize] {
+                    let xj = b.pos[x as usize] as usize;
+                    b.users[b.list[xj] as usize] = q as u32;
+                    b.list[xj] += 1;
+                }
+            }
+        }
+        b.dirty.clear();
+        b.dirty.resize(m, 0);
+        b.nval.clear();
+        b.nval.resize(m, 0.0);
+    }
+
+    /// The tree's cost (of the set-up tree `preorder`) read with the object at pre-order
+    /// position `i` (not 0) at `v` and the objects before `i` whose units reach it recomputed
+    /// from their units, in post-order.
+    fn raised(&mut self, g: &Local, w: &[f64], preorder: &[(u32, u32)], i: usize, v: f64) -> f64 {
+        let b = self;
+        if !b.has_users {
+            b.users(g, preorder);
+        }
+        b.child = b.child.wrapping_add(1);
+        if b.child == 0 {
+            b.dirty.fill(0);
+            b.child = 1;
+        }
+        let d = b.child;
+        b.dirty[i] = d;
+        b.nval[i] = v;
+        b.list.clear();
+        b.list.push(i as u32);
+        let mut k = 0;
+        while let Some(&q) = b.list.get(k) {
+            k += 1;
+            for u in b.start[q as usize]..b.start[q as usize + 1] {
+                let r = b.users[u as usize];
+                if (r as usize) < i && b.dirty[r as usize] != d {
+                    b.dirty[r as usize] = d;
+                    b.list.push(r);
+                }
+            }
+        }
+        let mut list = std::mem::take(&mut b.list);
+        list.swap_remove(0);
+        list.sort_unstable_by_key(|&q| b.post[q as usize]);
+        for &q in &list {
+            let f = preorder[q as usize].1 as usize;
+            let mut v = w[f];
+            for &x in &g.needed[f] {
+                let xi = x as usize;
+                v += if g.leaf[xi] {
+                    g.leaf_cost
+                } else {
+                    let xj = b.pos[xi] as usize;
+                    if b.dirty[xj] == d {
+                        b.nval[xj]
+                    } else {
+                        b.val[xj]
+                    }
+                };
+            }
+            b.nval[q as usize] = v;
+        }
+        b.list = list;
+        b.nval[0]
+    }
 }
 
 enum Node {
@@ -939,6 +1146,8 @@ enum Node {
 struct Parent {
     c: Constraints,
     preorder: Vec<(u32, u32)>,
+    /// Its tree's `Solved::vals`.
+    vals: Vec<(f64, u32)>,
 }
 
 struct Item {
@@ -1000,7 +1209,11 @@ impl Partition {
     /// are solved from the kitchen's optimum when it is known).
     fn new(g: &Local, w: Option<Vec<f64>>) -> Self {
         let seeded = w.is_none() && g.opt.is_some();
-        let mut work = Work::new(g);
+        let Buffers {
+            mut work,
+            read: scratch,
+            bounds,
+        } = g.buffers();
         let lb = if seeded {
             None
         } else {
@@ -1014,8 +1227,8 @@ impl Partition {
             parents: Vec::new(),
             listed: FxHashSet::default(),
             work,
-            scratch: ReadScratch::new(g),
-            bounds: Bounds::default(),
+            scratch,
+            bounds,
             solved: 0,
             seeded,
             deferred: None,
@@ -1029,6 +1242,15 @@ impl Partition {
             },
         });
         p
+    }
+
+    /// Gives its buffers back to the graph, for a later enumeration.
+    fn recycle(self, g: &Local) {
+        g.keep(Buffers {
+            work: self.work,
+            read: self.scratch,
+            bounds: self.bounds,
+        });
     }
 
     /// The constraints of an open subspace, from the subspace it was cut from.
@@ -1045,7 +1267,8 @@ impl Partition {
         let mut fixed = Vec::with_capacity(at as usize);
         fixed.extend_from_slice(&pa.c.fixed);
         fixed.extend_from_slice(&pa.preorder[from..at as usize]);
-        let mut banned = pa.c.banned.clone();
+        let mut banned = Vec::with_capacity(pa.c.banned.len() + 1);
+        banned.extend_from_slice(&pa.c.banned);
         banned.push(pa.preorder[at as usize]);
         Constraints { fixed, banned }
     }
@@ -1068,20 +1291,12 @@ impl Partition {
             return;
         };
         let pa = std::mem::take(&mut parents[parent as usize]);
-        self.push_children(g, &pa.c, &pa.preorder, cost, n, parent);
+        self.push_children(g, &pa, cost, n, parent);
         self.parents[parent as usize] = pa;
     }
 
-    fn push_children(
-        &mut self,
-        g: &Local,
-        c: &Constraints,
-        preorder: &[(u32, u32)],
-        cost: f64,
-        n: u64,
-        parent: u32,
-    ) {
-        let b = &mut self.bounds;
+    fn push_children(&mut self, g: &Local, pa: &Parent, cost: f64, n: u64, parent: u32) {
+        let (c, preorder) = (&pa.c, &pa.preorder[..]);
         let w = self.w.as_deref().unwrap_or(&g.weight);
         let lb = match (&self.lb, &g.opt) {
             (Some(lb), _) => lb,
@@ -1089,101 +1304,13 @@ impl Partition {
             // Not reached: a partition without bounds of its own is seeded.
             (None, None) => return,
         };
-        let no = g.objs.len();
-        if b.stamp.len() != no {
-            b.stamp = vec![0; no];
-            b.pos = vec![0; no];
-            b.fixed = vec![0; no];
-            b.epoch = 0;
-        }
-        b.epoch = b.epoch.wrapping_add(1);
-        if b.epoch == 0 {
-            b.stamp.fill(0);
-            b.fixed.fill(0);
-            b.epoch = 1;
-        }
+        let b = &mut self.bounds;
+        b.setup(g, preorder, &pa.vals);
+        debug_assert!(preorder.is_empty() || b.val[0].to_bits() == cost.to_bits());
         let e = b.epoch;
-        let m = preorder.len();
-        for (j, &(o, _)) in preorder.iter().enumerate() {
-            b.stamp[o as usize] = e;
-            b.pos[o as usize] = j as u32;
-        }
         for &(o, _) in &c.fixed {
             b.fixed[o as usize] = e;
         }
-        // Each object's cost in the tree and its post-order position (the tree is acyclic).
-        b.val.clear();
-        b.val.resize(m, f64::NAN);
-        b.post.clear();
-        b.post.resize(m, 0);
-        b.state.clear();
-        b.state.resize(m, 0);
-        b.stack.clear();
-        let mut next_post = 0u32;
-        if m > 0 {
-            b.stack.push((0, 0));
-            b.state[0] = 1;
-        }
-        while let Some(&mut (j, ref mut i)) = b.stack.last_mut() {
-            let f = preorder[j as usize].1 as usize;
-            let ins = &g.needed[f];
-            if *i < ins.len() {
-                let x = ins[*i] as usize;
-                *i += 1;
-                if !g.leaf[x] {
-                    let xj = b.pos[x];
-                    if b.state[xj as usize] == 0 {
-                        b.state[xj as usize] = 1;
-                        b.stack.push((xj, 0));
-                    }
-                }
-            } else {
-                let mut v = w[f];
-                for &x in ins {
-                    v += if g.leaf[x as usize] {
-                        g.leaf_cost
-                    } else {
-                        b.val[b.pos[x as usize] as usize]
-                    };
-                }
-                b.val[j as usize] = v;
-                b.post[j as usize] = next_post;
-                next_post += 1;
-                b.state[j as usize] = 2;
-                b.stack.pop();
-            }
-        }
-        debug_assert!(m == 0 || b.val[0].to_bits() == cost.to_bits());
-        // The tree objects whose units need each one.
-        b.start.clear();
-        b.start.resize(m + 1, 0);
-        for &(_, f) in preorder {
-            for &x in &g.needed[f as usize] {
-                if !g.leaf[x as usize] {
-                    b.start[b.pos[x as usize] as usize + 1] += 1;
-                }
-            }
-        }
-        for j in 0..m {
-            b.start[j + 1] += b.start[j];
-        }
-        b.users.clear();
-        b.users.resize(b.start[m] as usize, 0);
-        b.list.clear();
-        b.list.extend_from_slice(&b.start[..m]);
-        for (q, &(_, f)) in preorder.iter().enumerate() {
-            for &x in &g.needed[f as usize] {
-                if !g.leaf[x as usize] {
-                    let xj = b.pos[x as usize] as usize;
-                    b.users[b.list[xj] as usize] = q as u32;
-                    b.list[xj] += 1;
-                }
-            }
-        }
-        b.dirty.clear();
-        b.dirty.resize(m, 0);
-        b.nval.clear();
-        b.nval.resize(m, 0.0);
         // A lower bound on an input's cost in every child.
         let low = |b: &Bounds, x: u32| -> f64 {
             let xi = x as usize;
@@ -1223,50 +1350,7 @@ impl Partition {
                 v
             } else {
                 // Recompute the fixed objects (pre-order before i) whose units reach o_i.
-                b.child = b.child.wrapping_add(1);
-                if b.child == 0 {
-                    b.dirty.fill(0);
-                    b.child = 1;
-                }
-                let d = b.child;
-                b.dirty[i] = d;
-                b.nval[i] = v;
-                b.list.clear();
-                b.list.push(i as u32);
-                let mut k = 0;
-                while let Some(&q) = b.list.get(k) {
-                    k += 1;
-                    for u in b.start[q as usize]..b.start[q as usize + 1] {
-                        let r = b.users[u as usize];
-                        if (r as usize) < i && b.dirty[r as usize] != d {
-                            b.dirty[r as usize] = d;
-                            b.list.push(r);
-                        }
-                    }
-                }
-                let mut list = std::mem::take(&mut b.list);
-                list.swap_remove(0);
-                list.sort_unstable_by_key(|&q| b.post[q as usize]);
-                for &q in &list {
-                    let f = preorder[q as usize].1 as usize;
-                    let mut v = w[f];
-                    for &x in &g.needed[f] {
-                        let xi = x as usize;
-                        v += if g.leaf[xi] {
-                            g.leaf_cost
-                        } else {
-                            let xj = b.pos[xi] as usize;
-                            if b.dirty[xj] == d {
-                                b.nval[xj]
-                            } else {
-                                b.val[xj]
-                            }
-                        };
-                    }
-                    b.nval[q as usize] = v;
-                }
-                b.list = list;
-                b.nval[0]
+                b.raised(g, w, preorder, i, v)
             };
             self.heap.push(Item {
                 key: key.max(cost),
@@ -1310,7 +1394,7 @@ impl Partition {
                     }
                 }
                 Node::Done(done) => {
-                    let (c, s) = *done;
+                    let (c, mut s) = *done;
                     // The rest of this subspace: agree on the first i - 1 objects, differ at i
                     // (pushed before the next pop: at once when the tree is passed over, else
                     // on the next call).
@@ -1319,6 +1403,7 @@ impl Partition {
                     self.parents.push(Parent {
                         c,
                         preorder: s.preorder.clone(),
+                        vals: std::mem::take(&mut s.vals),
                     });
                     self.deferred = Some((self.popped, s.cost));
                     let mut set = s.units.clone();
@@ -1454,7 +1539,7 @@ impl KBest {
             .map(|(&w, &u)| w + penalty * f64::from(u))
             .collect();
         self.evaluations += part.solved;
-        *part = Partition::new(g, Some(w));
+        std::mem::replace(part, Partition::new(g, Some(w))).recycle(g);
     }
 
     /// The next tree, or `None` when there is none left.
@@ -1544,6 +1629,11 @@ impl KBest {
 
     /// A tree as a plan of this method (metrics filled in).
     pub fn plan_of(&self, ctx: &Context<'_>, r: &Ranked) -> Plan {
+        self.plan_from(ctx, r.clone())
+    }
+
+    /// [`KBest::plan_of`], the tree's units moved into the plan.
+    pub(crate) fn plan_from(&self, ctx: &Context<'_>, r: Ranked) -> Plan {
         let mut p = Plan::empty(
             self.goal,
             Query {
@@ -1551,12 +1641,12 @@ impl KBest {
                 ..Query::default()
             },
         );
-        p.units.clone_from(&r.units);
+        p.units = r.units;
         p.cost = Some(r.cost);
         p.expanded = self.evaluations();
         match r.metrics {
             Some(m) => {
-                debug_assert_eq!(m, ctx.metrics(&r.units, self.goal));
+                debug_assert_eq!(m, ctx.metrics(&p.units, self.goal));
                 p.height = m.height;
                 p.success = m.success;
                 p.unrated = m.unrated;
@@ -1568,15 +1658,23 @@ impl KBest {
     }
 }
 
+impl Drop for KBest {
+    fn drop(&mut self) {
+        if let (Some(g), Some(part)) = (self.graph.as_deref(), self.part.take()) {
+            part.recycle(g);
+        }
+    }
+}
+
 impl Context<'_> {
     /// The `k` best trees of `goal` for an optimal method, in cost order (fewer when there are
     /// fewer trees; none when the goal cannot be made).
     pub fn plan_k(&self, goal: u32, method: Method, k: usize, diverse: bool) -> Result<Vec<Plan>> {
         let mut it = KBest::new(self, goal, method, diverse)?;
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(k.min(16));
         while out.len() < k {
             let Some(r) = it.next_tree(self)? else { break };
-            out.push(it.plan_of(self, &r));
+            out.push(it.plan_from(self, r));
         }
         Ok(out)
     }

@@ -43,7 +43,7 @@ impl Paths {
                 self.max_trees = Some(self.given);
                 return Ok(None);
             };
-            let p = self.inner.plan_of(ctx, &r);
+            let p = self.inner.plan_from(ctx, r);
             if self
                 .max_height
                 .is_some_and(|h| p.height.is_none_or(|x| x > h))
