@@ -2,7 +2,7 @@
 
     python benchmarks/batch.py [--units 20k] [--queries 100k] [--kitchens 100] [--goals 200]
                                [--chunk 20000] [--sweep 1000,5000,20000] [--methods ids]
-                               [--repeat 3] [--work DIR]
+                               [--repeat 3] [--local-only] [--work DIR]
 
 The issue's run: `--units 1M --queries 1M --kitchens 1000`. Build the wheel in release mode
 first (`maturin build --release`, installed in its own venv with `pyarrow` and
@@ -203,6 +203,9 @@ def main() -> None:
     ap.add_argument("--methods", default="ids")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--work")
+    ap.add_argument("--local-only", action="store_true",
+                    help="only local 1 and 2 threads (no Dask, no sweep): the table's first "
+                         "two rows and the machine check")  # fmt: skip
     args = ap.parse_args()
     from distributed import Client
     from foon._batch import DEFAULT_CHUNK_SIZE
@@ -227,6 +230,9 @@ def main() -> None:
         "dask-1": ("dask", 1, chunk),
         "dask-2": ("dask", 2, chunk),
     }
+    if args.local_only:
+        configs = {t: configs[t] for t in ("local-1", "local-2")}
+        sizes = []
     for c in sizes:
         if c != chunk:
             configs[f"dask-1-{c}"] = ("dask", 1, c)
@@ -260,6 +266,31 @@ def main() -> None:
         walls = [m["wall"] for m in runs[tag]]
         return f"{fmt_s(min(walls))} to {fmt_s(max(walls))}"
 
+    if args.local_only:
+        l1, l2 = best("local-1"), best("local-2")
+        print(f"\n### foon.batch, local: {fmt_n(count)} queries, {args.units} units, "
+              f"{args.kitchens:,} kitchens, methods {args.methods}, chunks of {chunk:,}; "
+              f"cold runs, best of {args.repeat}\n")  # fmt: skip
+        print("| engine | time (best) | spread | queries/s | ratio | CPU |")
+        print("|---|---|---|---|---|---|")
+        for tag, name, m in (
+            ("local-1", "local, 1 thread", l1),
+            ("local-2", "local, 2 threads", l2),
+        ):
+            ratio = "1.00x" if tag == "local-1" else f"{l1['wall'] / l2['wall']:.2f}x of 1 thread"
+            print(f"| {name} | {fmt_s(m['wall'])} | {spread(tag)} | {count / m['wall']:,.0f} | "
+                  f"{ratio} | {fmt_s(m['client'])} |")  # fmt: skip
+        pairs = [
+            a["wall"] / b["wall"] for a, b in zip(runs["local-1"], runs["local-2"], strict=True)
+        ]
+        checks = [2 * a / b for a, b in zip(spins[1], spins[2], strict=True)]
+        print(f"\nPer round, 1 thread over 2 threads: {', '.join(f'{x:.2f}x' for x in pairs)}; "
+              f"the machine check (a pure-CPU loop in 2 processes against 1) in the same "
+              f"rounds: {', '.join(f'{x:.2f}x' for x in checks)}.")  # fmt: skip
+        print(f"\nCommand: `python benchmarks/batch.py --units {args.units} --queries "
+              f"{args.queries} --kitchens {args.kitchens} --chunk {chunk} --methods "
+              f"{args.methods} --repeat {args.repeat} --local-only` ({os.cpu_count()} cores)")  # fmt: skip
+        return
     n_noop = 2000
     with local_cluster(2) as c2, Client(c2) as client2:
         client2.wait_for_workers(2)
