@@ -8,7 +8,9 @@ and on the course FOON."""
 
 from __future__ import annotations
 
+import gc
 import random
+import weakref
 
 import foon
 import pytest
@@ -94,6 +96,29 @@ def test_changes_chain() -> None:
         remove = objects_of(f, rnd.sample(range(f.object_count), rnd.randint(0, 2)))
         check(p, add, remove, warm=True)
         p = p.with_changes(add=add, remove=remove)
+
+
+def test_changes_chain_builds_its_kitchen_on_first_use() -> None:
+    """A chain of changes whose kitchens are never read keeps no planner of the chain alive,
+    and its kitchen, read at the end, is the changes applied in order."""
+    text = "".join(f"O\ti{i}\nS\tx\nM\tmix\nO\ti{i + 1}\nS\tx\n//\n" for i in range(8))
+    f = foon.Foon.from_text(text)
+    p = foon.Planner(f, [f.object(0), f.object(3)])
+    want = p.kitchen
+    first = weakref.ref(p)
+    rnd = random.Random(5)
+    for _ in range(20):
+        add = objects_of(f, rnd.sample(range(f.object_count), rnd.randint(0, 2)))
+        remove = objects_of(f, rnd.sample(range(f.object_count), rnd.randint(0, 2)))
+        p = p.with_changes(add=add, remove=remove)
+        want = want.without(remove).with_items(add)
+    gc.collect()
+    assert first() is None
+    assert p.kitchen == want
+    fresh = foon.Planner(f, want)
+    assert p == fresh and p.ranks() == fresh.ranks()
+    for g in range(f.object_count):
+        assert p.plan(g, "ids").units == fresh.plan(g, "ids").units
 
 
 def test_no_change_and_bad_items() -> None:

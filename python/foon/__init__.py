@@ -1514,7 +1514,9 @@ class Planner:
         self.level = level
         self.foon = foon
         self._kitchen: Kitchen | None = _as_kitchen(kitchen)
-        self._changes: tuple[Planner, Kitchen, Kitchen] | None = None
+        # A planner made by `with_changes` at level 3: a kitchen and the (add, remove) steps
+        # from it, applied when `kitchen` is first read.
+        self._changes: tuple[Kitchen, tuple[tuple[Kitchen, Kitchen], ...]] | None = None
         self.motions = _as_rates(motions)
         self.utensils = _as_utensils(utensils)
         self.default_rate = default_rate
@@ -1534,9 +1536,10 @@ class Planner:
         k = self._kitchen
         if k is None:
             assert self._changes is not None
-            parent, adding, removing = self._changes
-            k = self._kitchen = parent.kitchen.without(removing).with_items(adding)
-            self._changes = None
+            k, steps = self._changes
+            for adding, removing in steps:
+                k = k.without(removing).with_items(adding)
+            self._kitchen, self._changes = k, None
         return k
 
     def __repr__(self) -> str:
@@ -1711,9 +1714,16 @@ class Planner:
         new = object.__new__(Planner)
         new.level = self.level
         new.foon = self.foon
-        # At level 3 the change is applied as items; the new kitchen is built on first use.
+        # At level 3 the change is applied as items; the new kitchen is built on first use
+        # (from the first kitchen of a chain of changes: no planner of the chain is kept).
         if self.level == 3:
-            new._kitchen, new._changes = None, (self, adding, removing)
+            steps: tuple[tuple[Kitchen, Kitchen], ...] = ()
+            if self._kitchen is not None:
+                start = self._kitchen
+            else:
+                assert self._changes is not None
+                start, steps = self._changes
+            new._kitchen, new._changes = None, (start, (*steps, (adding, removing)))
         else:
             new._kitchen, new._changes = self.kitchen.without(removing).with_items(adding), None
         new.motions = self.motions

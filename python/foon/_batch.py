@@ -709,7 +709,6 @@ def batch(
             # Chunk k is written (and hashed) by a writer thread while chunk k + 1 is
             # planned (both release the GIL); partitions are recorded in order, each once it
             # is whole, so at most two chunks' answers are held at a time.
-            # An interrupted or failed run still records the partition being written.
             from concurrent.futures import Future, ThreadPoolExecutor
 
             with ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-writer") as w:
@@ -724,6 +723,7 @@ def batch(
                             record(done_k, entry)
                         writing = (k, w.submit(write_partition, opath, k, res))
                 finally:
+                    # An interrupted or failed run still records the partition being written.
                     if writing is not None:
                         record(writing[0], writing[1].result())
         else:

@@ -25,6 +25,19 @@ fn kitchen(text: &str) -> Kitchen {
     Kitchen::parse(text.as_bytes(), None).unwrap()
 }
 
+/// A chain of units: `item` in state `s0` makes it in `s1`, ..., `s10` makes `s11`.
+fn chain_foon() -> Foon {
+    let mut text = String::new();
+    for i in 0..11 {
+        let _ = writeln!(
+            text,
+            "O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{}\n//",
+            i + 1
+        );
+    }
+    parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap()
+}
+
 fn parse_err(text: &str) -> String {
     KitchenSet::parse(text.as_bytes(), Some("set.json".as_ref()))
         .unwrap_err()
@@ -611,15 +624,7 @@ fn course_batch_equals_rows_alone() {
 fn many_waves_of_kitchens_and_delta_kitchens() {
     // A chain s0 -> s1 -> ... -> s11: kitchen i holds s(i % 12), so each goal is made in
     // some kitchens only; 150 kitchens take three waves of 64.
-    let mut text = String::new();
-    for i in 0..11 {
-        let _ = writeln!(
-            text,
-            "O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{}\n//",
-            i + 1
-        );
-    }
-    let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+    let foon = chain_foon();
     let item = |i: usize| format!(r#"[{{"label": "item", "states": ["s{i}"]}}]"#);
     let plain = KitchenSet::from_kitchens(
         (0..150).map(|i| (format!("k{i}"), Arc::new(kitchen(&item(i % 12))))),
@@ -716,17 +721,9 @@ fn course_delta_kitchens_equal_rows_alone() {
 #[test]
 fn a_wave_of_deltas_prepares_their_base_once() {
     // A chain s0 -> ... -> s11, a base kitchen of s0 and s5; 200 deltas each removing one of
-    // them and adding another state (5 distinct kitchens, none the base), at level 3: the cache then holds the base once and
-    // each distinct delta kitchen once.
-    let mut text = String::new();
-    for i in 0..11 {
-        let _ = writeln!(
-            text,
-            "O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{}\n//",
-            i + 1
-        );
-    }
-    let foon = parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap();
+    // them and adding another state (5 distinct kitchens, none the base), at level 3: the
+    // cache then holds the base once and each distinct delta kitchen once.
+    let foon = chain_foon();
     let item = |i: usize| format!(r#"{{"label": "item", "states": ["s{i}"]}}"#);
     let base = Arc::new(kitchen(&format!("[{}, {}]", item(0), item(5))));
     let set = KitchenSet::with_deltas(

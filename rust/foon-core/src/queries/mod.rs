@@ -510,28 +510,24 @@ pub enum WaveKitchen {
 impl WaveKitchen {
     /// The prepared kitchen: for a delta kitchen, prepared from its base kitchen's
     /// preparation by [`Prepared::with_kitchen_changes`] (at level 3 only the delta's items
-    /// are matched), then kept in `cache`.
+    /// are matched; the level is the base kitchen's preparation's), then kept in `cache`.
     pub fn prepared(
         &self,
         foon: &Foon,
         cache: &PreparedCache,
         entry: &Entry,
-        level: u8,
     ) -> Result<Arc<Prepared>> {
         match self {
             Self::Ready(p) => Ok(Arc::clone(p)),
-            // `prepare_wave` found no kitchen of `key` in the cache.
-            Self::Delta { from, key } => Ok(cache.insert(
-                *key,
-                match entry.delta() {
-                    Some(d) => {
-                        from.with_kitchen_changes(foon, &d.add, &d.remove, || entry.kitchen())?
-                    }
-                    None => {
-                        from.with_kitchen(foon, &entry.kitchen()?.match_at_level(foon, level)?)?
-                    }
-                },
-            )),
+            // `prepare_wave` leaves only delta kitchens to be derived, and found none of `key`
+            // in the cache.
+            Self::Delta { from, key } => {
+                let d = entry.delta().ok_or_else(|| {
+                    Error::Invalid("a kitchen given by its items has no base".into())
+                })?;
+                let p = from.with_kitchen_changes(foon, &d.add, &d.remove, || entry.kitchen())?;
+                Ok(cache.insert(*key, p))
+            }
         }
     }
 }
@@ -811,7 +807,7 @@ fn answer_rows(
             }
             let p = match &pending[j] {
                 Err(a) => Err(a.clone()),
-                Ok((w, k)) => match k.prepared(foon, cache, wave[*w].1, wave[*w].2) {
+                Ok((w, k)) => match k.prepared(foon, cache, wave[*w].1) {
                     Ok(p) => Ok(p),
                     Err(Error::Cancelled) => return Err(Error::Cancelled),
                     Err(e) => Err(Answer::of_error(&e)),
