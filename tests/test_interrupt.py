@@ -170,3 +170,55 @@ def test_ctrl_c_stops_a_long_load_or_check(big_foon: Path, call: str) -> None:
     word, when = out.split()
     assert word == "interrupted", out + err
     assert float(when) - sent < 0.5 * float(full), (float(when) - sent, full)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("threads", ["1", "2"])
+def test_ctrl_c_stops_foon_batch_with_whole_partitions(tmp_path: Path, threads: str) -> None:
+    """The local engine plans several chunks at once on more than one thread: Ctrl-C stops
+    them all promptly, and the output holds only whole partitions, each in the manifest."""
+    pytest.importorskip("pyarrow")
+    f = tmp_path / "chain.foon"
+    chain(f)
+    kitchens = tmp_path / "kitchens.json"
+    item = {"label": "item", "states": ["s0"], "ingredients": [], "container": None}
+    kitchens.write_text(json.dumps({"k": [item]}))
+    queries = tmp_path / "queries.jsonl"
+    with queries.open("w") as fh:
+        for i in range(6000):
+            goal = {"label": "item", "states": [f"s{N - i % 3000}"], "ingredients": [],
+                    "container": None}  # fmt: skip
+            fh.write(json.dumps({"query_id": i, "kitchen_id": "k", "goal": goal,
+                                 "method": "ids"}) + "\n")  # fmt: skip
+    out = tmp_path / "out"
+    script = shutil.which("foon") or str(Path(sys.executable).parent / "foon")
+    p = subprocess.Popen(
+        [script, "batch", str(queries), "--foon", str(f), "--kitchens", str(kitchens),
+         "-o", str(out), "--chunk-size", "100", "--threads", threads],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    from foon._batch import MANIFEST
+
+    # Interrupted once the first partition is recorded (whatever the build's speed).
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and p.poll() is None:
+        m = out / MANIFEST
+        if m.exists() and json.loads(m.read_text() or "{}").get("partitions"):
+            break
+        time.sleep(0.05)
+    assert p.poll() is None, "the batch finished before it could be interrupted"
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    stopped_after = time.monotonic() - sent
+    assert p.returncode == 130, err
+    assert "foon: interrupted" in err and "Traceback" not in err
+    assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
+    import pyarrow.parquet as pq  # type: ignore[import-untyped]
+
+    manifest = json.loads((out / MANIFEST).read_text())
+    parts = sorted(x.name for x in out.iterdir() if x.name != MANIFEST)
+    assert parts == [f"part-{k}.parquet" for k in manifest["partitions"]]
+    assert 0 < len(parts) < 60, parts
+    for name in parts:
+        assert pq.read_table(out / name).num_rows == 100

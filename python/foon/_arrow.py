@@ -16,6 +16,8 @@ from foon import Foon, _as_rates, _as_utensils, _foon, _type
 from foon._kitchens import KitchenSet
 
 if TYPE_CHECKING:
+    import threading
+
     from foon import MotionsLike, UtensilsLike
 
 #: The columns of a query table, in order (``options`` may be absent).
@@ -110,6 +112,7 @@ def plan_table(
     utensils: UtensilsLike = None,
     default_rate: float | None = None,
     deltas: str = "incremental",
+    cancel: threading.Event | None = None,
 ) -> pa.Table:
     """Answers every query row (columns :data:`QUERY_COLUMNS`) over ``foon`` with the
     kitchens of ``kitchens``: one result row per query, in query order, in the schema
@@ -119,7 +122,9 @@ def plan_table(
     :meth:`foon.Foon.plan` (a row's ``default_rate`` option replaces it). ``deltas`` is how
     the kitchens given as a base plus a delta are prepared: ``"incremental"`` (from the
     base kitchen's preparation, the default) or ``"from-scratch"`` (from their own items);
-    the answers are the same either way. The interpreter is released while the core plans."""
+    the answers are the same either way. The interpreter is released while the core plans.
+    ``cancel``: once this event is set, the call stops and raises ``KeyboardInterrupt``, as
+    Ctrl-C does (how a call made off the main thread, which sees no signals, is stopped)."""
     if not isinstance(foon, Foon):
         raise TypeError(f"foon must be a Foon, not {_type(foon)}")
     if not isinstance(kitchens, KitchenSet):
@@ -146,6 +151,7 @@ def plan_table(
         None if rates is None else list(rates.items()),
         default_rate,
         deltas,
+        cancel,
     )
     n = raw[0]
     b = pa.py_buffer

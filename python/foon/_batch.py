@@ -27,11 +27,13 @@ import os
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    import threading
+
     import pyarrow as pa  # type: ignore[import-untyped]
 
     from foon import Foon, MotionsLike, UtensilsLike
@@ -593,6 +595,68 @@ def _kitchen_set(kitchens: Any) -> KitchenSet:
     )
 
 
+#: Chunks the local engine plans at once on more than one thread.
+LOCAL_AHEAD = 2
+
+
+def _plan_locally(
+    todo: Iterable[tuple[int, pa.Table]],
+    plan: Callable[[pa.Table, threading.Event], pa.Table],
+    record: Callable[[int, dict[str, Any]], None],
+    out: str,
+    ahead: int,
+) -> None:
+    """The local engine: ``plan(chunk, cancel)`` answers each chunk of ``todo``, ``ahead``
+    chunks at once (each call on the core's pool, whose threads take a later chunk's rows
+    while the last rows of another run, so that no thread waits at a chunk's end, nor for a
+    chunk slower than the others). The partitions are written (and hashed) in order by a
+    writer thread while later chunks are planned, and recorded in order, each once it is
+    whole: at most 2 * ``ahead`` chunks' answers are held at a time. An interrupted or failed
+    run stops the chunks being planned and still records the partition being written."""
+    import threading
+    from collections import deque
+    from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+
+    cancel = threading.Event()
+    chunks = iter(todo)
+    order: deque[int] = deque()  # the chunks submitted and not yet written, in order
+    running: dict[Future[pa.Table], int] = {}
+    answered: dict[int, pa.Table] = {}
+    writing: tuple[int, Future[dict[str, Any]]] | None = None
+    with (
+        ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-writer") as w,
+        ThreadPoolExecutor(max_workers=ahead, thread_name_prefix="foon-plan") as p,
+    ):
+        try:
+            more = True
+            while True:
+                while more and len(running) < ahead and len(order) < 2 * ahead:
+                    nxt = next(chunks, None)
+                    if nxt is None:
+                        more = False
+                        break
+                    order.append(nxt[0])
+                    running[p.submit(plan, nxt[1], cancel)] = nxt[0]
+                if order and order[0] in answered:
+                    k = order.popleft()
+                    if writing is not None:
+                        done_k, entry = writing[0], writing[1].result()
+                        writing = None
+                        record(done_k, entry)
+                    writing = (k, w.submit(write_partition, out, k, answered.pop(k)))
+                    continue
+                if not running:
+                    break
+                finished, _ = wait(running, return_when=FIRST_COMPLETED)
+                for fut in finished:
+                    answered[running.pop(fut)] = fut.result()
+        finally:
+            # Chunks still being planned (an interrupted or failed run) stop at once.
+            cancel.set()
+            if writing is not None:
+                record(writing[0], writing[1].result())
+
+
 def batch(
     queries: str | os.PathLike[str],
     *,
@@ -706,26 +770,13 @@ def batch(
     t0 = time.perf_counter()
     try:
         if engine == "local":
-            # Chunk k is written (and hashed) by a writer thread while chunk k + 1 is
-            # planned (both release the GIL); partitions are recorded in order, each once it
-            # is whole, so at most two chunks' answers are held at a time.
-            from concurrent.futures import Future, ThreadPoolExecutor
 
-            with ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-writer") as w:
-                writing: tuple[int, Future[dict[str, Any]]] | None = None
-                try:
-                    for k, t in todo:
-                        res = _arrow.plan_table(f, ks, t, threads=threads, motions=rates,
-                                                utensils=tools, default_rate=default_rate)  # fmt: skip
-                        if writing is not None:
-                            done_k, entry = writing[0], writing[1].result()
-                            writing = None
-                            record(done_k, entry)
-                        writing = (k, w.submit(write_partition, opath, k, res))
-                finally:
-                    # An interrupted or failed run still records the partition being written.
-                    if writing is not None:
-                        record(writing[0], writing[1].result())
+            def plan(t: pa.Table, cancel: threading.Event) -> pa.Table:
+                return _arrow.plan_table(f, ks, t, threads=threads, motions=rates,
+                                         utensils=tools, default_rate=default_rate,
+                                         cancel=cancel)  # fmt: skip
+
+            _plan_locally(todo, plan, record, opath, 1 if threads == 1 else LOCAL_AHEAD)
         else:
             from foon import _dask
 

@@ -1,6 +1,7 @@
 """Private native module (Rust, PyO3). Use the public API in ``foon`` instead."""
 
 import os
+import threading
 from collections.abc import Iterable, Sequence
 from typing import Any, Literal, TypeAlias, final
 
@@ -518,6 +519,7 @@ def plan_query_columns(
     rates: list[tuple[str, float]] | None = None,
     default_rate: float | None = None,
     deltas: str | None = None,
+    cancel: threading.Event | None = None,
 ) -> tuple[Any, ...]: ...
 def failure_codes() -> list[str]: ...
 

@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyTuple};
 
 use crate::convert::{path_arg, rate_arg, rate_pairs_arg, str_list_field, threads_arg};
-use crate::errors::{PyFoonErr, enter};
+use crate::errors::{PyFoonErr, enter, enter_until};
 use crate::foon::PyFoon;
 use crate::kitchen::PyKitchen;
 
@@ -366,12 +366,13 @@ fn arrow_strings<'a>(
 /// Answers `n` query rows over `foon` with the kitchens of `kitchens`, on `threads` threads.
 /// The columns come as Arrow string buffers ([`ArrowStrings`]; `options` may be absent), read
 /// without a Python object per value. `deltas` is how delta kitchens are prepared
-/// (`"incremental"`, the default, or `"from-scratch"`). Returns the answers as buffers: (rows,
+/// (`"incremental"`, the default, or `"from-scratch"`). `cancel` (a `threading.Event`)
+/// stops the call once set, as Ctrl-C does. Returns the answers as buffers: (rows,
 /// solved bitmap, then (validity, values) for `fu_count`, height, success, cost, `leaf_count`;
 /// (offsets, values) for units; (validity, offsets, data) for failure; (list offsets, string
 /// offsets, data) for missing; (validity, offsets, data) for message).
 #[pyfunction]
-#[pyo3(signature = (foon, kitchens, n, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None))]
+#[pyo3(signature = (foon, kitchens, n, kitchen_ids, goals, methods, options = None, threads = None, utensils = None, rates = None, default_rate = None, deltas = None, cancel = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn plan_query_columns<'py>(
     py: Python<'py>,
@@ -387,6 +388,7 @@ pub(crate) fn plan_query_columns<'py>(
     rates: Option<&Bound<'py, PyAny>>,
     default_rate: Option<&Bound<'py, PyAny>>,
     deltas: Option<&str>,
+    cancel: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let kitchen_ids = arrow_strings(&kitchen_ids, n, "kitchen_id")?;
     let goals = arrow_strings(&goals, n, "goal")?;
@@ -410,6 +412,7 @@ pub(crate) fn plan_query_columns<'py>(
         &rows,
         (threads, utensils, rates, default_rate),
         deltas,
+        cancel.as_ref(),
     )
 }
 
@@ -430,6 +433,7 @@ fn answer_rows<'py>(
     rows: &[QueryRow<'_>],
     (threads, utensils, rates, default_rate): PlanArgs<'_, 'py>,
     deltas: Option<&str>,
+    cancel: Option<&Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let n = rows.len();
     let threads = threads_arg(threads)?;
@@ -475,8 +479,8 @@ fn answer_rows<'py>(
         Columns::of(&answers)
     };
     // Even on one thread the work runs on a thread of its own (`run_queries` keeps to one),
-    // which this one waits on while it looks at the signals.
-    let c = enter(py, run)?;
+    // which this one waits on while it looks at the signals (and at `cancel`).
+    let c = enter_until(py, cancel, run)?;
     let b = |v: &[u8]| PyBytes::new(py, v).into_any();
     let items: Vec<Bound<'py, PyAny>> = vec![
         n.into_pyobject(py)?.into_any(),

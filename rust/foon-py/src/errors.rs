@@ -107,15 +107,40 @@ pub(crate) fn enter<T: Send>(
     py: Python<'_>,
     work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
 ) -> PyResult<T> {
-    enter_watching(py, &|| {}, work)
+    enter_watching(py, &|| false, work)
+}
+
+/// As [`enter`], also stopping the work (as Ctrl-C does: `Error::Cancelled`, raised as
+/// `KeyboardInterrupt`) once `event` (a `threading.Event`, or anything with `is_set()`) is
+/// set: how a call made on a thread other than the main one, which sees no signals, is
+/// cancelled by its caller.
+pub(crate) fn enter_until<T: Send>(
+    py: Python<'_>,
+    event: Option<&Py<PyAny>>,
+    work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
+) -> PyResult<T> {
+    let Some(event) = event else {
+        return enter(py, work);
+    };
+    let set = || {
+        Python::attach(|py| {
+            event
+                .bind(py)
+                .call_method0("is_set")
+                .and_then(|v| v.is_truthy())
+                .unwrap_or(true)
+        })
+    };
+    enter_watching(py, &set, work)
 }
 
 /// As [`enter`], calling `watch` on the waiting thread at every look at the signals (every
-/// 20 ms) while the work runs: how a progress bar is drawn from the core's counters.
+/// 20 ms) while the work runs: how a progress bar is drawn from the core's counters. When
+/// `watch` answers true the work is cancelled as by Ctrl-C.
 #[allow(clippy::redundant_closure_for_method_calls)] // `Python::check_signals` is not general enough
 pub(crate) fn enter_watching<T: Send>(
     py: Python<'_>,
-    watch: &(dyn Fn() + Sync),
+    watch: &(dyn Fn() -> bool + Sync),
     work: impl FnOnce(Cancel<'_>) -> foon_core::Result<T> + Send,
 ) -> PyResult<T> {
     let stop = AtomicBool::new(false);
@@ -144,7 +169,9 @@ pub(crate) fn enter_watching<T: Send>(
                 if done.load(Ordering::Acquire) {
                     continue;
                 }
-                watch();
+                if watch() {
+                    stop.store(true, Ordering::Relaxed);
+                }
                 if raised.is_some() {
                     continue;
                 }

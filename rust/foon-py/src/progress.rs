@@ -61,7 +61,10 @@ pub(crate) fn enter_progress<T: Send>(
         return crate::errors::enter(py, |cancel| work(cancel, &progress));
     }
     let bar = Bar::new(bytes);
-    let watch = || bar.update(&progress);
+    let watch = || {
+        bar.update(&progress);
+        false
+    };
     let r = enter_watching(py, &watch, |cancel| work(cancel, &progress));
     bar.bar.finish_and_clear();
     r

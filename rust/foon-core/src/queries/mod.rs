@@ -844,28 +844,18 @@ fn answer_rows(
             let _ = slots[j].set(one(&rows_here[j].1));
             slots[j].get().is_some_and(Result::is_ok)
         };
-        // One schedule: the groups (each a worker's: its kitchen, then its leading rows),
-        // then the other rows in group order, each waiting, if it comes to it first, until
-        // its group's leading rows are done (set even when they fail, so no row waits for
-        // ever), so that the rows of the groups done start while a long group is prepared.
-        let n_groups = wave_hi - wave_lo;
-        let led: Vec<AtomicBool> = (0..n_groups).map(|_| AtomicBool::new(false)).collect();
-        let items: Vec<usize> = (0..n_groups + followers.len()).collect();
-        plan_rows(&items, workers, cancel, &|i| {
-            if i < n_groups {
-                let ok = leaders[i].iter().all(|&j| !cancel() && run_row(j));
-                led[i].store(true, Ordering::Release);
-                return ok;
-            }
-            let j = followers[i - n_groups];
-            let g = rows_here[j].1.group - wave_lo;
-            while !led[g].load(Ordering::Acquire) {
-                if cancel() {
-                    return false;
-                }
-                std::thread::sleep(std::time::Duration::from_micros(200));
-            }
-            run_row(j)
+        // One schedule ([`Schedule`]): the groups (each a worker's: its kitchen, then its
+        // leading rows), then the other rows in blocks of one group, a block taken once its
+        // group's leading rows are done (set even when they fail, so no row waits for ever):
+        // the rows of the groups done run while a long group is prepared.
+        let sched = Schedule::new(
+            &followers,
+            |j| rows_here[j].1.group - wave_lo,
+            wave_hi - wave_lo,
+        );
+        plan_rows(workers, cancel, &sched, &|step| match step {
+            Step::Lead(g) => leaders[g].iter().all(|&j| !cancel() && run_row(j)),
+            Step::Follow(r) => followers[r].iter().all(|&j| !cancel() && run_row(j)),
         })?;
         for (slot, (i, _)) in slots.into_iter().zip(rows_here) {
             match slot.into_inner() {
@@ -881,53 +871,156 @@ fn answer_rows(
         .collect()
 }
 
-/// Runs `run` for every index of `items`, on up to `workers` workers of the batch pool (on
-/// this thread for one), until `run` answers false (its row failed: the batch stops) or
-/// `cancel` answers true ([`Error::Cancelled`]).
-fn plan_rows(
-    items: &[usize],
-    workers: usize,
-    cancel: &(dyn Fn() -> bool + Sync),
-    run: &(dyn Fn(usize) -> bool + Sync),
-) -> Result<()> {
-    let n_workers = workers.min(items.len()).max(1);
-    if n_workers <= 1 {
-        for &j in items {
-            if cancel() {
-                return Err(Error::Cancelled);
+/// Rows of a wave that follow their group's leading rows, taken this many at a time.
+const FOLLOW_BLOCK: usize = 16;
+
+/// What a worker of a wave runs next ([`Schedule::next`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Step {
+    /// The leading rows of group `g` (its kitchen's preparation with them).
+    Lead(usize),
+    /// These positions of the following rows, all of one group whose leading rows are done.
+    Follow(std::ops::Range<usize>),
+}
+
+/// The order in which the workers of a wave take its rows: every group's leading rows, one
+/// group at a time in group order, then the following rows in blocks of at most
+/// [`FOLLOW_BLOCK`] of one group, the first block (in group order) of a group whose leading
+/// rows are done. A worker waits only when every block left belongs to a group still led.
+/// On one worker this is the leading rows of every group, then every other row in order.
+struct Schedule {
+    next_group: AtomicUsize,
+    led: Vec<AtomicBool>,
+    /// Per group: its blocks, as a range of `blocks`.
+    group_blocks: Vec<std::ops::Range<usize>>,
+    /// Per group: how many of its blocks were taken (may pass their number).
+    taken: Vec<AtomicUsize>,
+    /// The blocks, as ranges of the positions of the following rows.
+    blocks: Vec<std::ops::Range<usize>>,
+}
+
+/// [`Schedule::next`]'s answer.
+#[derive(Debug, PartialEq, Eq)]
+enum Next {
+    Run(Step),
+    /// Every block left waits for a group still led.
+    Wait,
+    Done,
+}
+
+impl Schedule {
+    /// The schedule of `n_groups` groups whose following rows are `followers` (in group
+    /// order), `group_of` giving each one's group.
+    fn new(followers: &[usize], group_of: impl Fn(usize) -> usize, n_groups: usize) -> Self {
+        let mut blocks = Vec::new();
+        let mut group_blocks = vec![0..0; n_groups];
+        let mut i = 0;
+        while i < followers.len() {
+            let g = group_of(followers[i]);
+            let lo = blocks.len();
+            let mut j = i;
+            while j < followers.len() && group_of(followers[j]) == g {
+                j += 1;
             }
-            if !run(j) {
-                break;
+            let mut at = i;
+            while at < j {
+                let end = (at + FOLLOW_BLOCK).min(j);
+                blocks.push(at..end);
+                at = end;
+            }
+            group_blocks[g] = lo..blocks.len();
+            i = j;
+        }
+        Self {
+            next_group: AtomicUsize::new(0),
+            led: (0..n_groups).map(|_| AtomicBool::new(false)).collect(),
+            taken: (0..n_groups).map(|_| AtomicUsize::new(0)).collect(),
+            group_blocks,
+            blocks,
+        }
+    }
+
+    fn next(&self) -> Next {
+        let g = self.next_group.fetch_add(1, Ordering::Relaxed);
+        if g < self.led.len() {
+            return Next::Run(Step::Lead(g));
+        }
+        let mut waiting = false;
+        for (g, range) in self.group_blocks.iter().enumerate() {
+            let n = range.len();
+            if self.taken[g].load(Ordering::Relaxed) >= n {
+                continue;
+            }
+            if !self.led[g].load(Ordering::Acquire) {
+                waiting = true;
+                continue;
+            }
+            let b = self.taken[g].fetch_add(1, Ordering::Relaxed);
+            if b < n {
+                return Next::Run(Step::Follow(self.blocks[range.start + b].clone()));
             }
         }
-        return Ok(());
+        if waiting { Next::Wait } else { Next::Done }
     }
-    let next = AtomicUsize::new(0);
+
+    /// Step `step` ran: a group's leading rows are done.
+    fn ran(&self, step: &Step) {
+        if let Step::Lead(g) = step {
+            self.led[*g].store(true, Ordering::Release);
+        }
+    }
+}
+
+/// Runs every step of `sched` with `run`, on up to `workers` workers of the batch pool (on
+/// this thread for one), until `run` answers false (a row failed: the batch stops) or
+/// `cancel` answers true ([`Error::Cancelled`]). A worker with nothing to run until a group
+/// is led runs other work of the pool meanwhile (a part of a kitchen's preparation computed
+/// in parallel), else sleeps briefly.
+fn plan_rows(
+    workers: usize,
+    cancel: &(dyn Fn() -> bool + Sync),
+    sched: &Schedule,
+    run: &(dyn Fn(Step) -> bool + Sync),
+) -> Result<()> {
     let stop = AtomicBool::new(false);
     let cancelled = AtomicBool::new(false);
     let work = || {
-        loop {
-            let i = next.fetch_add(1, Ordering::Relaxed);
-            if i >= items.len() || stop.load(Ordering::Relaxed) {
-                break;
-            }
+        while !stop.load(Ordering::Relaxed) {
             if cancel() {
                 cancelled.store(true, Ordering::Relaxed);
                 stop.store(true, Ordering::Relaxed);
                 break;
             }
-            if !run(items[i]) {
-                stop.store(true, Ordering::Relaxed);
+            match sched.next() {
+                Next::Run(step) => {
+                    let ok = run(step.clone());
+                    sched.ran(&step);
+                    if !ok {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+                Next::Wait => {
+                    if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                        std::thread::sleep(std::time::Duration::from_micros(200));
+                    }
+                }
+                Next::Done => break,
             }
         }
     };
-    in_pool(|| {
-        rayon::scope(|s| {
-            for _ in 0..n_workers {
-                s.spawn(|_| work());
-            }
-        });
-    })?;
+    let steps = sched.led.len() + sched.blocks.len();
+    let n_workers = workers.min(steps).max(1);
+    if n_workers <= 1 {
+        work();
+    } else {
+        in_pool(|| {
+            rayon::scope(|s| {
+                for _ in 0..n_workers {
+                    s.spawn(|_| work());
+                }
+            });
+        })?;
+    }
     if cancelled.load(Ordering::Relaxed) {
         return Err(Error::Cancelled);
     }
@@ -1021,5 +1114,69 @@ fn answer(
         Ok(p) => Ok(Answer::of_plan(foon, p)),
         Err(Error::Cancelled) => Err(Error::Cancelled),
         Err(e) => Ok(Answer::of_error(&e)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{FOLLOW_BLOCK, Next, Schedule, Step};
+
+    /// Three groups: 0 with 40 following rows (three blocks), 1 with none, 2 with 3.
+    fn schedule() -> Schedule {
+        let group = |j: usize| match j {
+            0..40 => 0,
+            _ => 2,
+        };
+        Schedule::new(&(0..43).collect::<Vec<_>>(), group, 3)
+    }
+
+    #[test]
+    fn leads_every_group_then_follows_only_led_groups() {
+        let s = schedule();
+        for g in 0..3 {
+            assert_eq!(s.next(), Next::Run(Step::Lead(g)));
+        }
+        // No group is led yet: the following rows wait.
+        assert_eq!(s.next(), Next::Wait);
+        s.ran(&Step::Lead(2));
+        assert_eq!(s.next(), Next::Run(Step::Follow(40..43)));
+        assert_eq!(s.next(), Next::Wait);
+        s.ran(&Step::Lead(0));
+        s.ran(&Step::Lead(1));
+        assert_eq!(s.next(), Next::Run(Step::Follow(0..FOLLOW_BLOCK)));
+        assert_eq!(
+            s.next(),
+            Next::Run(Step::Follow(FOLLOW_BLOCK..2 * FOLLOW_BLOCK))
+        );
+        assert_eq!(s.next(), Next::Run(Step::Follow(2 * FOLLOW_BLOCK..40)));
+        assert_eq!(s.next(), Next::Done);
+        assert_eq!(s.next(), Next::Done);
+    }
+
+    #[test]
+    fn one_worker_runs_rows_in_order() {
+        // What one worker sees: each step done before the next is asked for.
+        let s = schedule();
+        let mut seen = Vec::new();
+        loop {
+            match s.next() {
+                Next::Run(step) => {
+                    s.ran(&step);
+                    seen.push(step);
+                }
+                Next::Wait => panic!("one worker never waits"),
+                Next::Done => break,
+            }
+        }
+        let follows: Vec<usize> = seen
+            .iter()
+            .filter_map(|s| match s {
+                Step::Follow(r) => Some(r.clone()),
+                Step::Lead(_) => None,
+            })
+            .flatten()
+            .collect();
+        assert_eq!(&seen[..3], &[Step::Lead(0), Step::Lead(1), Step::Lead(2)]);
+        assert_eq!(follows, (0..43).collect::<Vec<_>>());
     }
 }
