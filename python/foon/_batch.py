@@ -611,8 +611,9 @@ def _plan_locally(
     while the last rows of another run, so that no thread waits at a chunk's end, nor for a
     chunk slower than the others). The partitions are written (and hashed) in order by a
     writer thread while later chunks are planned, and recorded in order, each once it is
-    whole: at most 2 * ``ahead`` chunks' answers are held at a time. An interrupted or failed
-    run stops the chunks being planned and still records the partition being written."""
+    whole: at most 2 * ``ahead`` chunks' answers wait to be written, and one is written.
+    An interrupted or failed run stops the chunks being planned and still records the
+    partition being written."""
     import threading
     from collections import deque
     from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
