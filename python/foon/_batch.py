@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import threading
+    from concurrent.futures import Future
 
     import pyarrow as pa  # type: ignore[import-untyped]
 
@@ -526,6 +527,20 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
     return kept
 
 
+def _listed(out: str, key: str) -> bool:
+    """Whether a manifest in ``out`` lists partition ``key`` (read only, never checked)."""
+    try:
+        with open(os.path.join(out, MANIFEST), encoding="utf-8") as f:
+            old = json.load(f)
+    except (OSError, ValueError):
+        return False
+    return (
+        isinstance(old, dict)
+        and isinstance(old.get("partitions"), dict)
+        and (key in old["partitions"])
+    )
+
+
 # --- the batch --------------------------------------------------------------------------------
 
 
@@ -595,6 +610,43 @@ def _kitchen_set(kitchens: Any) -> KitchenSet:
     )
 
 
+class _Early:
+    """Chunk 0 of a query file planned on a thread of its own (``plan(chunk, cancel)``)
+    while the file is checked; its answers are only held."""
+
+    def __init__(self, answers: Future[pa.Table], cancel: threading.Event) -> None:
+        self.answers = answers
+        self.cancel = cancel
+
+    @classmethod
+    def start(
+        cls, path: str, size: int, plan: Callable[[pa.Table, threading.Event], pa.Table]
+    ) -> _Early | None:
+        """None when the file has no rows or its first chunk cannot be read (the check says
+        why)."""
+        import threading
+        from concurrent.futures import ThreadPoolExecutor
+
+        try:
+            first = next(chunks(path, size), None)
+        except Exception:  # noqa: BLE001 - reported by the file's check
+            return None
+        if first is None:
+            return None
+        cancel = threading.Event()
+        ex = ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-plan")
+        answers = ex.submit(plan, first[1], cancel)
+        ex.shutdown(wait=False)
+        return cls(answers, cancel)
+
+    def stop(self) -> None:
+        """Stops the planning (if it still runs) and waits for its thread."""
+        from concurrent.futures import wait
+
+        self.cancel.set()
+        wait([self.answers])
+
+
 #: Chunks the local engine plans at once on more than one thread.
 LOCAL_AHEAD = 2
 
@@ -605,6 +657,7 @@ def _plan_locally(
     record: Callable[[int, dict[str, Any]], None],
     out: str,
     ahead: int,
+    first: _Early | None = None,
 ) -> None:
     """The local engine: ``plan(chunk, cancel)`` answers each chunk of ``todo``, ``ahead``
     chunks at once (each call on the core's pool, whose threads take a later chunk's rows
@@ -613,10 +666,11 @@ def _plan_locally(
     writer thread while later chunks are planned, and recorded in order, each once it is
     whole: at most 2 * ``ahead`` chunks' answers wait to be written, and one is written.
     An interrupted or failed run stops the chunks being planned and still records the
-    partition being written."""
+    partition being written. ``first``: chunk 0 being planned already (its answers are
+    used when ``todo`` starts with chunk 0)."""
     import threading
     from collections import deque
-    from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+    from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 
     cancel = threading.Event()
     chunks = iter(todo)
@@ -637,7 +691,10 @@ def _plan_locally(
                         more = False
                         break
                     order.append(nxt[0])
-                    running[p.submit(plan, nxt[1], cancel)] = nxt[0]
+                    if first is not None and nxt[0] == 0:
+                        running[first.answers] = 0
+                    else:
+                        running[p.submit(plan, nxt[1], cancel)] = nxt[0]
                 if order and order[0] in answered:
                     k = order.popleft()
                     if writing is not None:
@@ -654,6 +711,8 @@ def _plan_locally(
         finally:
             # Chunks still being planned (an interrupted or failed run) stop at once.
             cancel.set()
+            if first is not None:
+                first.stop()
             if writing is not None:
                 record(writing[0], writing[1].result())
 
@@ -713,21 +772,40 @@ def batch(
     rates = _pkg._as_rates(motions)
     tools = _pkg._as_utensils(utensils)
 
+    def plan(t: pa.Table, cancel: threading.Event) -> pa.Table:
+        return _arrow.plan_table(f, ks, t, threads=threads, motions=rates, utensils=tools,
+                                 default_rate=default_rate, cancel=cancel)  # fmt: skip
+
     # Everything that can be wrong with the inputs is found before the output is touched.
-    total = scan_queries(qpath)
-    if engine == "dask" and f.index_path is None:
-        raise ValueError(
-            "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
-        )
-    inputs = {
-        "index": f.fingerprint,
-        "kitchens": ks.fingerprint,
-        "queries": file_fingerprint(qpath),
-        "settings": _settings_fingerprint(rates, tools, default_rate),
-        "chunk_size": chunk_size,
-        "rows": total,
-    }
-    kept = _prepare_output(opath, inputs, resume)
+    # Meanwhile (the local engine on more than one thread) the first chunk is planned, its
+    # answers held: its kitchens' preparation need not wait for the whole file's check.
+    # (Not when an earlier run's manifest lists that chunk: a resumed run plans only what is
+    # missing.)
+    ahead = 1 if threads == 1 else LOCAL_AHEAD
+    early = engine == "local" and ahead > 1 and not (resume and _listed(opath, f"{0:05d}"))
+    first = _Early.start(qpath, chunk_size, plan) if early else None
+    try:
+        total = scan_queries(qpath)
+        if engine == "dask" and f.index_path is None:
+            raise ValueError(
+                "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
+            )
+        inputs = {
+            "index": f.fingerprint,
+            "kitchens": ks.fingerprint,
+            "queries": file_fingerprint(qpath),
+            "settings": _settings_fingerprint(rates, tools, default_rate),
+            "chunk_size": chunk_size,
+            "rows": total,
+        }
+        kept = _prepare_output(opath, inputs, resume)
+    except BaseException:
+        if first is not None:
+            first.stop()
+        raise
+    if first is not None and f"{0:05d}" in kept:
+        first.stop()
+        first = None
     n_parts = (total + chunk_size - 1) // chunk_size
     manifest: dict[str, Any] = {
         "format": _FORMAT,
@@ -771,13 +849,8 @@ def batch(
     t0 = time.perf_counter()
     try:
         if engine == "local":
-
-            def plan(t: pa.Table, cancel: threading.Event) -> pa.Table:
-                return _arrow.plan_table(f, ks, t, threads=threads, motions=rates,
-                                         utensils=tools, default_rate=default_rate,
-                                         cancel=cancel)  # fmt: skip
-
-            _plan_locally(todo, plan, record, opath, 1 if threads == 1 else LOCAL_AHEAD)
+            _plan_locally(todo, plan, record, opath, ahead, first)
+            first = None
         else:
             from foon import _dask
 
@@ -798,6 +871,8 @@ def batch(
                 ).hexdigest(),
             )
     except BaseException:
+        if first is not None:
+            first.stop()
         # An interrupted or failed run: the manifest lists every partition recorded so far.
         with contextlib.suppress(Exception):
             save(True)
