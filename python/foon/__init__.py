@@ -1658,15 +1658,12 @@ class Planner:
         """The goal's object id (see :meth:`Foon.goal_id`); below level 3, the object that
         stands for it at the level (METHODS.md, "Hierarchy levels"): an object id is that
         object, a label stands for the label-only object."""
-        if self.level == 3 or (isinstance(goal, int) and not isinstance(goal, bool)):
-            return self.foon.goal_id(goal)
         if isinstance(goal, str):
-            o = Object(goal)
-        elif isinstance(goal, Object | Mapping):
+            return int(_foon.goal_at_level(self._native, goal, self.level))
+        if isinstance(goal, Object | Mapping):
             o = _as_object(goal, "goal")
-        else:
-            return self.foon.goal_id(goal)
-        return int(_foon.goal_at_level(self._native, o._tuple(), self.level))
+            return int(_foon.goal_at_level(self._native, o._tuple(), self.level))
+        return self.foon.goal_id(goal)
 
     def ranks(self) -> list[int | None]:
         """Rank of every object: the fewest parallel steps that make it from the kitchen

@@ -351,7 +351,7 @@ class Split:
     def write(self, format: str, *, title: str | None = None) -> bytes: ...
 
 def goal_at_level(
-    planner: Planner, goal: tuple[str, list[str], list[str], str | None], level: int
+    planner: Planner, goal: str | tuple[str, list[str], list[str], str | None], level: int
 ) -> int: ...
 
 @final

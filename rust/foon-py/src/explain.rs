@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use foon_core::explain::Explain;
 use foon_core::find::FindIndex;
+use foon_core::queries::GoalText;
 use foon_core::write::{self, Format, Options};
 use foon_core::{Context, Query};
 use pyo3::prelude::*;
@@ -162,19 +163,31 @@ impl PyFindIndex {
     }
 }
 
-/// The object that stands for a goal (an object's fields) at identity `level` with the
-/// planner's kitchen (see `foon_core::levels::goal_at_level`).
+/// The object that stands for a goal (a label, or an object's fields) at identity `level`
+/// with the planner's kitchen: the rule of a batch row's goal,
+/// `foon_core::queries::GoalText::resolve` (level 3: the object itself; below: a label stands
+/// for the label-only object, see `foon_core::levels::goal_at_level`).
 #[pyfunction]
 pub(crate) fn goal_at_level(
     py: Python<'_>,
     planner: &PyPlanner,
-    goal: ObjTuple,
+    goal: LabelOrObject,
     level: u8,
 ) -> PyResult<u32> {
-    let spec = spec_of(goal);
+    let goal = match goal {
+        LabelOrObject::Label(l) => GoalText::Label(l),
+        LabelOrObject::Object(t) => GoalText::Object(spec_of(t)),
+    };
     let (foon, prep) = (&*planner.foon, &*planner.prep);
     enter(py, |cancel| {
         let ctx = Context::with(foon, prep)?.with_cancel(cancel);
-        foon_core::levels::goal_at_level(&ctx, &spec, level)
+        goal.resolve(&ctx, level)
     })
+}
+
+/// A goal given by its label or by an object's fields.
+#[derive(FromPyObject)]
+pub(crate) enum LabelOrObject {
+    Label(String),
+    Object(ObjTuple),
 }
