@@ -76,6 +76,9 @@ def _options(text: str | None, method: str) -> dict[str, Any]:
         out.get("objective", "units") != "units" or "node_limit" in out or "time_limit" in out
     ):
         raise Failed("bad-option")
+    # The optimal methods have no course-compatible form.
+    if out.get("compat") == "course" and method.startswith("optimal-"):
+        raise Failed("bad-option")
     return out
 
 

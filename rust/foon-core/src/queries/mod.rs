@@ -465,6 +465,9 @@ fn check_row<'a>(
         compat: options.compat,
         count: options.count,
     };
+    query
+        .check()
+        .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))?;
     let rate = options.default_rate.or(default_rate).map(f64::to_bits);
     let checked = Checked {
         group: usize::MAX,

@@ -46,19 +46,8 @@ impl Context<'_> {
         } else {
             query
         };
+        query.check()?;
         let mut plan = match (query.compat, query.method) {
-            (
-                Compat::Course,
-                Method::OptimalSuccess
-                | Method::OptimalUnits
-                | Method::OptimalInputs
-                | Method::OptimalShared,
-            ) => {
-                return Err(Error::Invalid(format!(
-                    "method {} has no course-compatible form",
-                    query.method.as_str()
-                )));
-            }
             (Compat::Course, _) => course::plan(self, goal, query)?,
             (Compat::Sound, method) => {
                 if self.in_kitchen(goal) {

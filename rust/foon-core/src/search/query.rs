@@ -144,3 +144,23 @@ impl Default for Query {
         }
     }
 }
+
+impl Query {
+    /// Whether the method has the form asked for: the optimal methods have no
+    /// course-compatible form (`bfs` is the course loop whatever is asked).
+    pub fn check(&self) -> crate::error::Result<()> {
+        match (self.compat, self.method) {
+            (
+                Compat::Course,
+                Method::OptimalSuccess
+                | Method::OptimalUnits
+                | Method::OptimalInputs
+                | Method::OptimalShared,
+            ) => Err(crate::error::Error::Invalid(format!(
+                "method {} has no course-compatible form",
+                self.method.as_str()
+            ))),
+            _ => Ok(()),
+        }
+    }
+}
