@@ -354,3 +354,20 @@ def test_cli_start_does_not_import_pyarrow() -> None:
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert r.stdout.strip() == "[]"
+
+
+def test_the_process_cache_can_be_read_and_cleared(data: Data, whole: Any, tmp_path: Path
+                                                   ) -> None:  # fmt: skip
+    run(data, tmp_path / "a")
+    info = foon.batch_cache_info()
+    assert isinstance(info, foon.CacheInfo)
+    assert info.entries > 0 and info.bases > 0 and info.bytes > 0
+    foon.clear_batch_cache()
+    after = foon.batch_cache_info()
+    assert (after.entries, after.bytes, after.bases) == (0, 0, 0)
+    assert (after.hits, after.misses) == (info.hits, info.misses)
+    # The next batch prepares its kitchens again, with the same answers.
+    run(data, tmp_path / "b")
+    again = foon.batch_cache_info()
+    assert again.misses > after.misses and again.entries > 0
+    assert read_parts(tmp_path / "b").equals(whole)

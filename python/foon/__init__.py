@@ -49,7 +49,7 @@ if TYPE_CHECKING:
     GoalLike: TypeAlias = "ObjectLike | int | str"
     _Fields: TypeAlias = tuple[str, tuple[str, ...], tuple[str, ...], str | None]
 
-    from foon._batch import BatchSummary, batch
+    from foon._batch import BatchSummary, CacheInfo, batch, batch_cache_info, clear_batch_cache
     from foon._explain import GoalExplanation, Similar
     from foon._kbest import RankedTree
     from foon._kitchens import KitchenSet
@@ -75,6 +75,7 @@ __all__ = [
     "SYNTH_TEXT_LIMIT",
     "BatchSummary",
     "Blocked",
+    "CacheInfo",
     "Example",
     "Finding",
     "Foon",
@@ -101,7 +102,9 @@ __all__ = [
     "TaskTree",
     "TreeCheck",
     "batch",
+    "batch_cache_info",
     "check",
+    "clear_batch_cache",
     "example",
     "load",
     "load_goals",
@@ -134,7 +137,10 @@ _LAZY: dict[str, str] = {
     **dict.fromkeys(("GoalExplanation", "Similar"), "foon._explain"),
     **dict.fromkeys(("Profile", "Profiles", "SplitResult"), "foon._split"),
     "KitchenSet": "foon._kitchens",
-    **dict.fromkeys(("BatchSummary", "batch"), "foon._batch"),
+    **dict.fromkeys(
+        ("BatchSummary", "CacheInfo", "batch", "batch_cache_info", "clear_batch_cache"),
+        "foon._batch",
+    ),
 }
 
 

@@ -40,7 +40,16 @@ if TYPE_CHECKING:
     from foon import Foon, MotionsLike, UtensilsLike
     from foon._kitchens import KitchenSet
 
-__all__ = ["DEFAULT_CHUNK_SIZE", "MANIFEST", "BatchSummary", "batch", "read_queries"]
+__all__ = [
+    "DEFAULT_CHUNK_SIZE",
+    "MANIFEST",
+    "BatchSummary",
+    "CacheInfo",
+    "batch",
+    "batch_cache_info",
+    "clear_batch_cache",
+    "read_queries",
+]
 
 #: Queries per chunk (per partition, and per Dask task) when ``chunk_size`` is not given:
 #: large enough that a Dask task's fixed cost (scheduling, shipping the chunk, a few
@@ -71,6 +80,36 @@ _SUFFIXES = {
 }
 
 _REQUIRED = ("query_id", "kitchen_id", "goal", "method")
+
+
+@dataclass(frozen=True)
+class CacheInfo:
+    """The process's cache of prepared kitchens, which every batch in the process shares
+    (a Dask worker's tasks included): at most 1,024 kitchens and 256 MiB of them, and 4
+    bases. ``bytes`` is the kept kitchens' size as last measured; ``hits``, ``misses`` and
+    ``evictions`` count since the process started."""
+
+    entries: int
+    bytes: int
+    bases: int
+    hits: int
+    misses: int
+    evictions: int
+
+
+def batch_cache_info() -> CacheInfo:
+    """The counters of the process's cache of prepared kitchens (:class:`CacheInfo`)."""
+    from foon import _foon
+
+    return CacheInfo(*_foon.batch_cache_stats())
+
+
+def clear_batch_cache() -> None:
+    """Drops every prepared kitchen and base the process's batches keep (the memory they
+    hold is freed once no planner uses them); the counters stay."""
+    from foon import _foon
+
+    _foon.clear_batch_cache()
 
 
 @dataclass(frozen=True)

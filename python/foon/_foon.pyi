@@ -481,7 +481,13 @@ def derivable_many(
 ) -> list[list[bool]] | list[list[int | None]]: ...
 
 # Queries in, results out.
-__all__ += ["KitchenSet", "failure_codes", "plan_query_columns"]
+__all__ += [
+    "KitchenSet",
+    "batch_cache_stats",
+    "clear_batch_cache",
+    "failure_codes",
+    "plan_query_columns",
+]
 
 @final
 class KitchenSet:
@@ -522,6 +528,8 @@ def plan_query_columns(
     cancel: threading.Event | None = None,
 ) -> tuple[Any, ...]: ...
 def failure_codes() -> list[str]: ...
+def batch_cache_stats() -> tuple[int, int, int, int, int, int]: ...
+def clear_batch_cache() -> None: ...
 
 # Incremental kitchens.
 __all__ += ["planner_with_changes"]

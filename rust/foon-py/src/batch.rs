@@ -151,6 +151,20 @@ fn cache() -> &'static PreparedCache {
     })
 }
 
+/// The counters of the process's cache of prepared kitchens ([`cache`]): (kitchens kept,
+/// their bytes, bases kept, hits, misses, evictions).
+#[pyfunction]
+pub(crate) fn batch_cache_stats() -> (usize, usize, usize, u64, u64, u64) {
+    let s = cache().stats();
+    (s.entries, s.bytes, s.bases, s.hits, s.misses, s.evictions)
+}
+
+/// Drops every prepared kitchen and base of the process's cache (the counters stay).
+#[pyfunction]
+pub(crate) fn clear_batch_cache() {
+    cache().clear();
+}
+
 /// A validity (or boolean) bitmap, least significant bit first.
 #[derive(Default)]
 struct Bits {

@@ -76,7 +76,9 @@ mod _foon {
     use super::errors::{FoonError, GoalNotFoundError, MissingRateError, OutputError, ParseError};
 
     #[pymodule_export]
-    use super::batch::{PyKitchenSet, failure_codes, plan_query_columns};
+    use super::batch::{
+        PyKitchenSet, batch_cache_stats, clear_batch_cache, failure_codes, plan_query_columns,
+    };
 
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
