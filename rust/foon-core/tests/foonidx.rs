@@ -188,6 +188,37 @@ fn fingerprint_follows_content() {
     assert_eq!(f1.fingerprint_hex().len(), 32);
 }
 
+#[test]
+fn objects_with_label_are_every_object_of_the_label_in_id_order() {
+    // Labels that are also states, motions and containers, repeated across units; and every
+    // real data file.
+    let text = "O\tegg\nS\twhole\nO\tbowl\nS\tempty\nM\tcrack\nO\tegg\nS\tcracked\nO\tbowl\n\
+                S\tcontains\t{egg}\n//\nO\twhole\nS\tegg\nM\tbowl\nO\tcrack\nS\tbowl\t[egg]\n//\n";
+    let mut foons = vec![parse_foon(text.as_bytes(), None, ParseOptions::default()).unwrap()];
+    if let Some(d) = shared() {
+        for p in data_files(&d.join("data/foon")).into_iter().take(3) {
+            if let Ok(f) = load_foon(&p, ParseOptions::default()) {
+                foons.push(f);
+            }
+        }
+    }
+    for f in &foons {
+        let mut labels: Vec<String> = (0..f.object_count() as u32)
+            .map(|o| ObjectSpec::of_object(f, o).label)
+            .collect();
+        labels.sort();
+        labels.dedup();
+        labels.push("no such label".into());
+        labels.push("empty".into()); // a state, never a label here
+        for l in &labels {
+            let want: Vec<u32> = (0..f.object_count() as u32)
+                .filter(|&o| ObjectSpec::of_object(f, o).label == *l)
+                .collect();
+            assert_eq!(f.objects_with_label(l), want, "{l}");
+        }
+    }
+}
+
 fn open(bytes: &[u8]) -> Result<Foon, Error> {
     Foon::from_index_bytes(bytes, Path::new("x.foonidx"))
 }

@@ -54,6 +54,49 @@ pub struct Report {
     pub duplicates: Vec<DuplicateFu>,
 }
 
+/// The objects of each label, in id order: a counting sort of the objects by label string
+/// id (`start[l]..start[l + 1]` of `objects`).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ByLabel {
+    start: Vec<u32>,
+    objects: Vec<u32>,
+}
+
+impl ByLabel {
+    fn build(foon: &Foon) -> Self {
+        let n = foon.strings.len();
+        let mut start = vec![0u32; n + 2];
+        for o in 0..foon.object_count() {
+            let l = foon.obj_label.get(o).copied().unwrap_or(u32::MAX) as usize;
+            if l < n {
+                start[l + 2] += 1;
+            }
+        }
+        for l in 2..start.len() {
+            start[l] += start[l - 1];
+        }
+        let mut objects = vec![0u32; start[n + 1] as usize];
+        for o in 0..foon.object_count() {
+            let l = foon.obj_label.get(o).copied().unwrap_or(u32::MAX) as usize;
+            if l < n {
+                let at = &mut start[l + 1];
+                objects[*at as usize] = o as u32;
+                *at += 1;
+            }
+        }
+        start.truncate(n + 1);
+        Self { start, objects }
+    }
+
+    fn objects(&self, label: u32) -> &[u32] {
+        let l = label as usize;
+        match (self.start.get(l), self.start.get(l + 1)) {
+            (Some(&a), Some(&b)) => &self.objects[a as usize..b as usize],
+            _ => &[],
+        }
+    }
+}
+
 /// A parsed FOON: immutable once built, `Send + Sync`, shared behind `Arc`.
 #[derive(Debug, Clone, Default)]
 pub struct Foon {
@@ -104,6 +147,8 @@ pub struct Foon {
     /// The similarity index of `foon find` and of the goals a "not found" error suggests
     /// (built on first use).
     pub(crate) find: OnceLock<crate::find::FindIndex>,
+    /// The objects of each label (built on first use, see [`Foon::objects_with_label`]).
+    pub(crate) by_label: OnceLock<ByLabel>,
     /// The index file this FOON was opened from, if any.
     pub(crate) file: Option<Arc<file::Opened>>,
 }
@@ -436,13 +481,16 @@ impl Foon {
     }
 
     /// Objects whose label is `label`, in id order.
+    /// The first call builds a table of every label's objects (O(objects + strings), once
+    /// per FOON); each call after that costs the label's look-up and its objects.
     pub fn objects_with_label(&self, label: &str) -> Vec<u32> {
         let Some(l) = self.strings.get(label) else {
             return Vec::new();
         };
-        (0..self.object_count() as u32)
-            .filter(|&o| self.obj_label.get(o as usize) == Some(&l))
-            .collect()
+        self.by_label
+            .get_or_init(|| ByLabel::build(self))
+            .objects(l)
+            .to_vec()
     }
 
     /// The FU with this identity (motion string id, and inputs and outputs as object ids
