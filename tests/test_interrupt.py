@@ -22,6 +22,19 @@ def chain(path: Path) -> None:
             fh.write(f"O\titem\nS\ts{i}\nM\tstep\nO\titem\nS\ts{i + 1}\n//\n")
 
 
+def interrupt_cli(p: subprocess.Popen[str]) -> None:
+    """Ctrl-C to a running ``foon`` command: it exits promptly with 130 and a one-line
+    message, no traceback."""
+    assert p.poll() is None, "the batch finished before it could be interrupted"
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    stopped_after = time.monotonic() - sent
+    assert p.returncode == 130, err
+    assert "foon: interrupted" in err and "Traceback" not in err
+    assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
+
+
 @pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 @pytest.mark.parametrize("threads", ["1", "2"])
 def test_ctrl_c_stops_a_long_batch(tmp_path: Path, threads: str) -> None:
@@ -64,14 +77,7 @@ def test_ctrl_c_stops_a_long_batch(tmp_path: Path, threads: str) -> None:
         text=True,
     )
     time.sleep(2.5)
-    assert p.poll() is None, "the batch finished before it could be interrupted"
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    _, err = p.communicate(timeout=60)
-    stopped_after = time.monotonic() - sent
-    assert p.returncode == 130, err
-    assert "foon: interrupted" in err and "Traceback" not in err
-    assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
+    interrupt_cli(p)
     assert not out.exists() or list(out.iterdir()) == []
 
 
@@ -206,14 +212,7 @@ def test_ctrl_c_stops_foon_batch_with_whole_partitions(tmp_path: Path, threads: 
         if m.exists() and json.loads(m.read_text() or "{}").get("partitions"):
             break
         time.sleep(0.05)
-    assert p.poll() is None, "the batch finished before it could be interrupted"
-    sent = time.monotonic()
-    p.send_signal(signal.SIGINT)
-    _, err = p.communicate(timeout=60)
-    stopped_after = time.monotonic() - sent
-    assert p.returncode == 130, err
-    assert "foon: interrupted" in err and "Traceback" not in err
-    assert stopped_after < 10, f"took {stopped_after:.1f} s to stop"
+    interrupt_cli(p)
     import pyarrow.parquet as pq  # type: ignore[import-untyped]
 
     manifest = json.loads((out / MANIFEST).read_text())
