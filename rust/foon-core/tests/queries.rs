@@ -234,6 +234,13 @@ fn alone(foon: &Foon, set: &KitchenSet, row: &QueryRow<'_>, utensils: &[String])
             .map_err(|_| fail(Failure::UnknownMethod))?;
         let opts = foon_core::queries::RowOptions::parse(row.options, method)
             .map_err(|e| (Failure::BadOption, Some(e.to_string())))?;
+        let q = Query {
+            method,
+            compat: opts.compat,
+            count: opts.count,
+        };
+        q.check()
+            .map_err(|e| (Failure::BadOption, Some(e.to_string())))?;
         let goal = GoalText::parse(row.goal.ok_or(fail(Failure::BadGoal))?)
             .map_err(|e| (Failure::BadGoal, Some(e.to_string())))?;
         let ids = k.match_at_level(foon, opts.level).unwrap();
@@ -246,11 +253,6 @@ fn alone(foon: &Foon, set: &KitchenSet, row: &QueryRow<'_>, utensils: &[String])
             Error::GoalAmbiguous { .. } => fail(Failure::GoalAmbiguous),
             e => (Failure::Error, Some(e.to_string())),
         })?;
-        let q = Query {
-            method,
-            compat: opts.compat,
-            count: opts.count,
-        };
         let plan = ctx.plan(g, q).map_err(|e| match e {
             Error::MissingRate { .. } => (Failure::MissingRate, Some(e.to_string())),
             e => (Failure::Error, Some(e.to_string())),
@@ -555,7 +557,7 @@ fn bad_rows_are_failure_codes() {
             Some("bad-option"),
             Some("not-derivable"),
             Some("unresolved"),
-            Some("error"),
+            Some("bad-option"),
             Some("unknown-kitchen"),
         ]
     );

@@ -453,13 +453,7 @@ fn check_row<'a>(
                 .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))
         })
         .clone()?;
-    let Some(goal) = row.goal else {
-        return Err(Box::new(missing(Failure::BadGoal, "goal")));
-    };
-    let (goal, parsed) = memo.goal(goal);
-    if let Err(a) = parsed {
-        return Err(a.clone());
-    }
+    // An optimal method in its course form is a bad option, found with the others.
     let query = Query {
         method,
         compat: options.compat,
@@ -468,6 +462,13 @@ fn check_row<'a>(
     query
         .check()
         .map_err(|e| Box::new(Answer::failed(Failure::BadOption, &e)))?;
+    let Some(goal) = row.goal else {
+        return Err(Box::new(missing(Failure::BadGoal, "goal")));
+    };
+    let (goal, parsed) = memo.goal(goal);
+    if let Err(a) = parsed {
+        return Err(a.clone());
+    }
     let rate = options.default_rate.or(default_rate).map(f64::to_bits);
     let checked = Checked {
         group: usize::MAX,
@@ -1034,9 +1035,10 @@ fn plan_rows(
 /// derived from it (`rows`, their goals in `goals`), so that it computes what they will use
 /// (its ranks, and what planning their queries computes once per kitchen: the choice of
 /// `ids`, the optimal objectives), which every delta kitchen then updates rather than
-/// computes: up to [`WARM_TRIES`] rows per query, until one is solved. When a row is sound,
-/// a goal that cannot be made in the base is planned too, for the shopping costs of
-/// explanations. The answers are dropped (only a cancel is an error).
+/// computes: up to [`WARM_TRIES`] rows per query, until one is solved. When a row is sound
+/// and some object cannot be made in the base, the shopping costs of explanations are
+/// computed too, alongside the rows (on the pool: they need only the kitchen). The answers
+/// are dropped (only a cancel is an error).
 fn warm_base<'c>(
     foon: &Foon,
     from: &Prepared,
@@ -1045,50 +1047,63 @@ fn warm_base<'c>(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<()> {
     let ctx = Context::with(foon, from)?.with_cancel(cancel);
+    // `optimal-shared` reads the optima of `optimal-units` and `optimal-success`.
+    let queries: Vec<(&Checked, Query)> = rows
+        .map(|c| {
+            let query = match c.query.method {
+                Method::OptimalShared => Query {
+                    method: Method::OptimalUnits,
+                    ..c.query
+                },
+                _ => c.query,
+            };
+            (c, query)
+        })
+        .collect();
+    let sound = queries
+        .iter()
+        .any(|(_, q)| q.compat == Compat::Sound && q.method != Method::Bfs);
     let ranks = ctx.ranks();
-    let mut tries: FxHashMap<Query, usize> = FxHashMap::default();
-    let mut sound = false;
-    for c in rows {
-        // `optimal-shared` reads the optima of `optimal-units` and `optimal-success`.
-        let query = match c.query.method {
-            Method::OptimalShared => Query {
-                method: Method::OptimalUnits,
-                ..c.query
-            },
-            _ => c.query,
-        };
-        sound |= query.compat == Compat::Sound && query.method != Method::Bfs;
-        let n = tries.entry(query).or_insert(0);
-        if *n >= WARM_TRIES {
-            continue;
-        }
-        *n += 1;
-        let Some(text) = goals.get(c.goal).copied().flatten() else {
-            continue;
-        };
-        let goal = match c
-            .goal_id
-            .map_or_else(|| text.resolve(&ctx, c.options.level), Ok)
-        {
-            Ok(g) => g,
-            Err(Error::Cancelled) => return Err(Error::Cancelled),
-            Err(_) => continue,
-        };
-        match ctx.plan(goal, query) {
-            Ok(p) if p.solved => *n = WARM_TRIES,
-            Err(Error::Cancelled) => return Err(Error::Cancelled),
-            _ => {}
-        }
-    }
-    if sound {
-        let unmade = (0..foon.object_count() as u32).find(|&o| ranks.rank(o).is_none());
-        if let Some(o) = unmade {
-            if let Err(Error::Cancelled) = ctx.plan(o, Query::default()) {
-                return Err(Error::Cancelled);
+    let unmade = sound && (0..foon.object_count() as u32).any(|o| ranks.rank(o).is_none());
+    let try_rows = || -> Result<()> {
+        let mut tries: FxHashMap<Query, usize> = FxHashMap::default();
+        for &(c, query) in &queries {
+            let n = tries.entry(query).or_insert(0);
+            if *n >= WARM_TRIES {
+                continue;
+            }
+            *n += 1;
+            let Some(text) = goals.get(c.goal).copied().flatten() else {
+                continue;
+            };
+            let goal = match c
+                .goal_id
+                .map_or_else(|| text.resolve(&ctx, c.options.level), Ok)
+            {
+                Ok(g) => g,
+                Err(Error::Cancelled) => return Err(Error::Cancelled),
+                Err(_) => continue,
+            };
+            match ctx.plan(goal, query) {
+                Ok(p) if p.solved => *n = WARM_TRIES,
+                Err(Error::Cancelled) => return Err(Error::Cancelled),
+                _ => {}
             }
         }
+        Ok(())
+    };
+    let shopping = || {
+        if unmade {
+            crate::search::compute_optimum(&ctx, crate::prepare::Objective::Shopping)
+        } else {
+            Ok(())
+        }
+    };
+    let (a, b) = in_pool(|| rayon::join(try_rows, shopping))?;
+    match (a, b) {
+        (Err(Error::Cancelled), _) | (_, Err(Error::Cancelled)) => Err(Error::Cancelled),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// Rows per query tried on the base of delta kitchens, at most ([`warm_base`]).

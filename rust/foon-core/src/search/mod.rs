@@ -100,11 +100,15 @@ impl Context<'_> {
     }
 }
 
-/// Computes the kitchen's optimum of `objective` (for the tests of incremental kitchens).
-#[cfg(test)]
+/// Computes the kitchen's optimum of `objective` (what the optimal methods and, for
+/// `Objective::Shopping`, the explanations of goals that cannot be made read), unless the
+/// context plans from scratch (which keeps nothing).
 pub(crate) fn compute_optimum(
     ctx: &Context<'_>,
     objective: crate::prepare::Objective,
 ) -> Result<()> {
+    if ctx.is_from_scratch() {
+        return Ok(());
+    }
     optimal::optimum(ctx, objective).map(|_| ())
 }
