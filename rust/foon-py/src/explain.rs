@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::convert::{ObjTuple, spec_of, str_field};
-use crate::errors::{PyFoonErr, enter};
+use crate::errors::{PyFoonErr, enter, enter_here};
 use crate::foon::{PyFoon, check_object};
 use crate::plan::PyPlan;
 use crate::planner::PyPlanner;
@@ -179,7 +179,12 @@ pub(crate) fn goal_at_level(
         LabelOrObject::Object(t) => GoalText::Object(spec_of(t)),
     };
     let (foon, prep) = (&*planner.foon, &*planner.prep);
-    enter(py, |cancel| {
+    // A look-up (at level 3 a hash probe): on this thread, as every plan call resolves its
+    // goal through here.
+    enter_here(py, |cancel| {
+        if level == 3 {
+            return goal.resolve_by_identity(foon);
+        }
         let ctx = Context::with(foon, prep)?.with_cancel(cancel);
         goal.resolve(&ctx, level)
     })
