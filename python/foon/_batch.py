@@ -483,8 +483,13 @@ def _write_json(folder: str, name: str, data: dict[str, Any]) -> None:
     _write_atomic(folder, name, write)
 
 
+def part_key(k: int) -> str:
+    """Partition ``k``'s key in the manifest."""
+    return f"{k:05d}"
+
+
 def part_name(k: int) -> str:
-    return f"part-{k:05d}.parquet"
+    return f"part-{part_key(k)}.parquet"
 
 
 def write_partition(folder: str, k: int, table: pa.Table) -> dict[str, Any]:
@@ -821,7 +826,7 @@ def batch(
     # (Not when an earlier run's manifest lists that chunk: a resumed run plans only what is
     # missing.)
     ahead = 1 if threads == 1 else LOCAL_AHEAD
-    early = engine == "local" and ahead > 1 and not (resume and _listed(opath, f"{0:05d}"))
+    early = engine == "local" and ahead > 1 and not (resume and _listed(opath, part_key(0)))
     first = _Early.start(qpath, chunk_size, plan) if early else None
     try:
         total = scan_queries(qpath)
@@ -842,7 +847,7 @@ def batch(
         if first is not None:
             first.stop()
         raise
-    if first is not None and f"{0:05d}" in kept:
+    if first is not None and part_key(0) in kept:
         first.stop()
         first = None
     n_parts = (total + chunk_size - 1) // chunk_size
@@ -871,7 +876,7 @@ def batch(
     def record(k: int, entry: dict[str, Any]) -> None:
         """Partition ``k`` is written (``entry``, its manifest entry): counted once."""
         nonlocal done
-        key = f"{k:05d}"
+        key = part_key(k)
         if key in manifest["partitions"]:
             return  # recorded already (a task run twice after a worker died)
         manifest["partitions"][key] = entry
@@ -884,7 +889,7 @@ def batch(
         if report is not None:
             report(done, total)
 
-    todo = ((k, t) for k, t in chunks(qpath, chunk_size) if f"{k:05d}" not in kept)
+    todo = ((k, t) for k, t in chunks(qpath, chunk_size) if part_key(k) not in kept)
     t0 = time.perf_counter()
     try:
         if engine == "local":

@@ -179,12 +179,8 @@ pub(crate) fn goal_at_level(
         LabelOrObject::Object(t) => GoalText::Object(spec_of(t)),
     };
     let (foon, prep) = (&*planner.foon, &*planner.prep);
-    // A look-up (at level 3 a hash probe): on this thread, as every plan call resolves its
-    // goal through here.
+    // A look-up: on this thread, as every plan call resolves its goal through here.
     enter_here(py, |cancel| {
-        if level == 3 {
-            return goal.resolve_by_identity(foon);
-        }
         let ctx = Context::with(foon, prep)?.with_cancel(cancel);
         goal.resolve(&ctx, level)
     })
