@@ -8,10 +8,10 @@
 //! exact because every constraint restricts the producers of one object, and one choice per
 //! object is all a tree is. Taking a subspace's best tree T out leaves, for each object `o_i` of T
 //! in pre-order, the trees that agree with T on `o_1 .. o_(i-1)` and choose another producer at `o_i`:
-//! a partition of the rest. Subspaces are solved only when their lower bound (the tree they
-//! were cut from, read with the object they differ at raised to its next producer: see
-//! `Partition::children`) comes first; they are listed in (cost, place in the partition)
-//! order. Assignments that give a set of units already listed are skipped, so every set comes
+//! a partition of the rest. Subspaces are solved only when their lower bound (the cost of the
+//! tree they were cut from, raised by the rise of the object they differ at to its next
+//! producer: see `Partition::children`) comes first; they are listed in (cost, place in the
+//! partition) order. Assignments that give a set of units already listed are skipped, so every set comes
 //! once, at its lowest cost.
 
 use std::cmp::Ordering;
@@ -77,11 +77,25 @@ struct Buffers {
     work: Work,
     read: ReadScratch,
     bounds: Bounds,
+    part: PartBufs,
 }
 
 impl Buffers {
     /// How many a graph keeps (one per thread enumerating it at once).
     const KEPT: usize = 4;
+    /// How many emptied listed subspaces (their vectors) a kept `PartBufs` holds at most.
+    const SPARE: usize = 64;
+}
+
+/// The containers of a `Partition`, emptied, kept with their room.
+#[derive(Default)]
+struct PartBufs {
+    heap: BinaryHeap<Item>,
+    spare: Vec<Parent>,
+    cons: Constraints,
+    listed: FxHashMap<u128, u32>,
+    arena: Vec<(u32, u32)>,
+    metrics: MetricsScratch,
 }
 
 impl Local {
@@ -98,6 +112,7 @@ impl Local {
             work: Work::new(self),
             read: ReadScratch::new(self),
             bounds: Bounds::default(),
+            part: PartBufs::default(),
         })
     }
 
@@ -367,19 +382,53 @@ struct Solved {
     preorder: Vec<(u32, u32)>,
     /// Units (global ids) in depth-first post-order.
     units: Vec<u32>,
-    /// Per pre-order position: the object's cost in the tree, and the place of its unit in
-    /// `units` (a post-order of the objects).
-    vals: Vec<(f64, u32)>,
+    /// Per pre-order position: the object's cost in the tree.
+    vals: Vec<f64>,
 }
 
-/// A tree read from choices: `Solved`'s pre-order, units and values.
-type ReadTree = (Vec<(u32, u32)>, Vec<u32>, Vec<(f64, u32)>);
+/// Where `Local::read` puts a tree: `Solved`'s pre-order, units and values.
+type TreeOut<'a> = (&'a mut Vec<(u32, u32)>, &'a mut Vec<u32>, &'a mut Vec<f64>);
+
+impl Solved {
+    fn new(cost: f64) -> Self {
+        Self {
+            cost,
+            preorder: Vec::new(),
+            units: Vec::new(),
+            vals: Vec::new(),
+        }
+    }
+
+    fn out(&mut self) -> TreeOut<'_> {
+        (&mut self.preorder, &mut self.units, &mut self.vals)
+    }
+}
 
 /// What `solve_seeded` found: the best tree, no tree, or that the full run is needed.
 enum Seeded {
-    Tree(Solved),
+    Tree(Found),
     Empty,
     Full,
+}
+
+/// A subspace's best tree: read, or its cost and the choices of the affected objects (read from the optimum's choices and these, by `Local::read_over`,
+/// only when it is listed: most solved subspaces never are).
+enum Found {
+    Tree(Box<Solved>),
+    /// The choices: a range of `Partition::arena`.
+    Over {
+        cost: f64,
+        choices: (u32, u32),
+    },
+}
+
+impl Found {
+    fn cost(&self) -> f64 {
+        match self {
+            Found::Tree(s) => s.cost,
+            Found::Over { cost, .. } => *cost,
+        }
+    }
 }
 
 /// Reusable per-run state of Knuth's algorithm over the local graph.
@@ -404,6 +453,18 @@ struct Work {
 }
 
 impl Work {
+    /// A new stamp for `stamp`, `ustamp` and `fstamp`.
+    fn next_epoch(&mut self) -> u32 {
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.stamp.fill(0);
+            self.ustamp.fill(0);
+            self.fstamp.fill(0);
+            self.epoch = 1;
+        }
+        self.epoch
+    }
+
     /// Knuth's relaxation: `f` makes `y` at (`cost`, `depth`); it becomes `y`'s choice when
     /// lower, or as low with a lower unit index (pushed on the heap only when lower).
     fn offer(&mut self, y: u32, f: u32, cost: f64, depth: u32) {
@@ -476,13 +537,9 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return None;
         }
-        let (preorder, units, vals) = self.read(w, |o| work.choice[o as usize], scratch);
-        Some(Solved {
-            cost: work.cost[g],
-            preorder,
-            units,
-            vals,
-        })
+        let mut s = Solved::new(work.cost[g]);
+        self.read(w, |o| work.choice[o as usize], scratch, s.out());
+        Some(s)
     }
 
     /// Every object's cost over the whole ancestry under the weights `w` (no constraint; +inf
@@ -587,6 +644,7 @@ impl Local {
         c: &Constraints,
         work: &mut Work,
         scratch: &mut ReadScratch,
+        arena: &mut Vec<(u32, u32)>,
     ) -> Seeded {
         let Some(opt) = self.opt.as_ref() else {
             return Seeded::Full;
@@ -597,22 +655,11 @@ impl Local {
             if !ocost[g].is_finite() {
                 return Seeded::Empty;
             }
-            let (preorder, units, vals) = self.read(w, |o| ochoice[o as usize], scratch);
-            return Seeded::Tree(Solved {
-                cost: ocost[g],
-                preorder,
-                units,
-                vals,
-            });
+            let mut s = Box::new(Solved::new(ocost[g]));
+            self.read(w, |o| ochoice[o as usize], scratch, s.out());
+            return Seeded::Tree(Found::Tree(s));
         }
-        work.epoch = work.epoch.wrapping_add(1);
-        if work.epoch == 0 {
-            work.stamp.fill(0);
-            work.ustamp.fill(0);
-            work.fstamp.fill(0);
-            work.epoch = 1;
-        }
-        let e = work.epoch;
+        let e = work.next_epoch();
         let mut list = std::mem::take(&mut work.list);
         let mut units = std::mem::take(&mut work.units);
         list.clear();
@@ -654,7 +701,35 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return Seeded::Empty;
         }
-        let (preorder, units, vals) = self.read(
+        let start = arena.len() as u32;
+        arena.extend(work.list.iter().map(|&o| (o, work.choice[o as usize])));
+        Seeded::Tree(Found::Over {
+            cost: work.cost[g],
+            choices: (start, arena.len() as u32),
+        })
+    }
+
+    /// The tree of the kitchen's optimum's choices with `choices` in place of theirs (a
+    /// `Found::Over`), as `read` gives it.
+    fn read_over(
+        &self,
+        w: &[f64],
+        choices: &[(u32, u32)],
+        work: &mut Work,
+        scratch: &mut ReadScratch,
+        out: TreeOut<'_>,
+    ) {
+        let ochoice = &self
+            .opt
+            .as_ref()
+            .expect("a seeded tree has an optimum")
+            .choice;
+        let e = work.next_epoch();
+        for &(o, f) in choices {
+            work.stamp[o as usize] = e;
+            work.choice[o as usize] = f;
+        }
+        self.read(
             w,
             |o| {
                 if work.stamp[o as usize] == e {
@@ -664,13 +739,8 @@ impl Local {
                 }
             },
             scratch,
+            out,
         );
-        Seeded::Tree(Solved {
-            cost: work.cost[g],
-            preorder,
-            units,
-            vals,
-        })
     }
 
     /// Knuth's algorithm over the affected objects `list` (see `solve_seeded`).
@@ -783,10 +853,16 @@ impl Local {
     }
 
     /// The tree of the choices from the goal: (pre-order objects with their choices, units in
-    /// depth-first post-order, each object's cost in the tree under the weights `w` and the
-    /// place of its unit among the units), as `tree::emit` reads them. An object's cost is its
-    /// unit's weight plus its inputs' costs, added in input order.
-    fn read(&self, w: &[f64], choice: impl Fn(u32) -> u32, scratch: &mut ReadScratch) -> ReadTree {
+    /// depth-first post-order, each object's cost in the tree under the weights `w`), as
+    /// `tree::emit` reads them, into `pre`, `units` and `vals` (emptied first). An object's
+    /// cost is its unit's weight plus its inputs' costs, added in input order.
+    fn read(
+        &self,
+        w: &[f64],
+        choice: impl Fn(u32) -> u32,
+        scratch: &mut ReadScratch,
+        (pre, units, vals): TreeOut<'_>,
+    ) {
         let e = scratch.next_epoch(self);
         let ReadScratch {
             seen,
@@ -798,9 +874,12 @@ impl Local {
             ..
         } = scratch;
         // Room for a tree as large as the last one read, and a few more.
-        let mut pre = Vec::with_capacity(size.0 + 8);
-        let mut vals = Vec::with_capacity(size.0 + 8);
-        let mut units = Vec::with_capacity(size.1 + 8);
+        pre.clear();
+        vals.clear();
+        units.clear();
+        pre.reserve(size.0 + 8);
+        vals.reserve(size.0 + 8);
+        units.reserve(size.1 + 8);
         stack.clear();
         // An object's unit is pushed (with the object's place in `pre`) unless emitted
         // already: then the object's cost is that unit's (the choices are acyclic, so a unit
@@ -808,10 +887,10 @@ impl Local {
         let mut visit = |o: u32,
                          stack: &mut Vec<(u32, usize, u32)>,
                          pre: &mut Vec<(u32, u32)>,
-                         vals: &mut Vec<(f64, u32)>,
+                         vals: &mut Vec<f64>,
                          emitted: &[u32],
                          oval: &mut [f64],
-                         uval: &[(f64, u32)]| {
+                         uval: &[f64]| {
             if self.leaf[o as usize] || seen[o as usize] == e {
                 return;
             }
@@ -820,20 +899,20 @@ impl Local {
             let j = pre.len() as u32;
             pre.push((o, f));
             if emitted[f as usize] == e {
-                oval[o as usize] = uval[f as usize].0;
+                oval[o as usize] = uval[f as usize];
                 vals.push(uval[f as usize]);
             } else {
-                vals.push((f64::NAN, 0));
+                vals.push(f64::NAN);
                 stack.push((f, 0, j));
             }
         };
-        visit(self.goal, stack, &mut pre, &mut vals, emitted, oval, uval);
+        visit(self.goal, stack, pre, vals, emitted, oval, uval);
         while let Some(&mut (f, ref mut i, j)) = stack.last_mut() {
             let ins = &self.needed[f as usize];
             if *i < ins.len() {
                 let x = ins[*i];
                 *i += 1;
-                visit(x, stack, &mut pre, &mut vals, emitted, oval, uval);
+                visit(x, stack, pre, vals, emitted, oval, uval);
             } else {
                 stack.pop();
                 let fi = f as usize;
@@ -847,15 +926,14 @@ impl Local {
                             oval[x as usize]
                         };
                     }
-                    uval[fi] = (v, units.len() as u32);
+                    uval[fi] = v;
                     units.push(self.fus[fi]);
                 }
-                oval[pre[j as usize].0 as usize] = uval[fi].0;
+                oval[pre[j as usize].0 as usize] = uval[fi];
                 vals[j as usize] = uval[fi];
             }
         }
         *size = (pre.len(), units.len());
-        (pre, units, vals)
     }
 
     /// `Context::metrics` of a tree of this graph (`preorder`: its objects with their local
@@ -869,11 +947,30 @@ impl Local {
         units: &[u32],
         m: &mut MetricsScratch,
     ) -> TreeMetrics {
-        let MetricsScratch { us, marks, buf } = m;
+        let MetricsScratch {
+            us,
+            seen,
+            epoch,
+            marks,
+            buf,
+        } = m;
+        // The distinct units, in pre-order (the rule does not depend on their order).
+        if seen.len() != self.fus.len() {
+            *seen = vec![0; self.fus.len()];
+            *epoch = 0;
+        }
+        *epoch = epoch.wrapping_add(1);
+        if *epoch == 0 {
+            seen.fill(0);
+            *epoch = 1;
+        }
         us.clear();
-        us.extend(preorder.iter().map(|&(_, f)| f));
-        us.sort_unstable();
-        us.dedup();
+        for &(_, f) in preorder {
+            if seen[f as usize] != *epoch {
+                seen[f as usize] = *epoch;
+                us.push(f);
+            }
+        }
         let marks = marks.get_or_insert_with(|| StampedMarks::new(self.objs.len()));
         evaluate::tree_metrics(self, ctx, units, us, self.goal, marks, buf)
     }
@@ -921,6 +1018,9 @@ impl Local {
 #[derive(Default)]
 struct MetricsScratch {
     us: Vec<u32>,
+    /// Per local unit: the epoch of the tree that holds it.
+    seen: Vec<u32>,
+    epoch: u32,
     marks: Option<StampedMarks>,
     buf: ShapeBuf,
 }
@@ -951,9 +1051,9 @@ struct ReadScratch {
     stack: Vec<(u32, usize, u32)>,
     /// The last tree read: its pre-order's and its units' lengths.
     size: (usize, usize),
-    /// The costs in the tree being read: of its objects, and of its units with their places.
+    /// The costs in the tree being read: of its objects, and of its units.
     oval: Vec<f64>,
-    uval: Vec<(f64, u32)>,
+    uval: Vec<f64>,
 }
 
 impl ReadScratch {
@@ -965,7 +1065,7 @@ impl ReadScratch {
             stack: Vec::new(),
             size: (0, 0),
             oval: vec![0.0; g.objs.len()],
-            uval: vec![(0.0, 0); g.fus.len()],
+            uval: vec![0.0; g.fus.len()],
         }
     }
 
@@ -982,49 +1082,32 @@ impl ReadScratch {
     }
 }
 
-/// Scratch of `Partition::children`: a listed tree's objects (their pre-order position,
-/// their cost in the tree, their post-order position, the tree objects whose units need them)
-/// and the values recomputed for one child.
+/// Scratch of `Partition::children`: a listed tree's objects (their pre-order position and
+/// their cost in the tree).
 #[derive(Default)]
 struct Bounds {
     epoch: u32,
-    /// Per local object: the epoch of the tree it is in, its pre-order position, and whether
-    /// the subspace fixes it.
+    /// Per local object: the epoch of the tree it is in, and its pre-order position.
     stamp: Vec<u32>,
     pos: Vec<u32>,
-    fixed: Vec<u32>,
-    /// Per pre-order position: cost in the tree, place in a post-order.
+    /// Per pre-order position: cost in the tree.
     val: Vec<f64>,
-    post: Vec<u32>,
-    /// The tree objects whose units need each one (CSR over pre-order positions).
-    start: Vec<u32>,
-    users: Vec<u32>,
-    /// `start` and `users` are those of the tree set up.
-    has_users: bool,
-    /// One child: its recomputed values (stamped by `child`), the positions to recompute.
-    child: u32,
-    dirty: Vec<u32>,
-    nval: Vec<f64>,
-    list: Vec<u32>,
 }
 
 impl Bounds {
     /// The per-tree values of a listed subspace's tree (its pre-order `preorder` and its
-    /// `Solved::vals`): its objects' pre-order positions, their costs in the tree and their
-    /// places in a post-order.
-    fn setup(&mut self, g: &Local, preorder: &[(u32, u32)], vals: &[(f64, u32)]) {
+    /// `Solved::vals`): its objects' pre-order positions and their costs in the tree.
+    fn setup(&mut self, g: &Local, preorder: &[(u32, u32)], vals: &[f64]) {
         let b = self;
         let no = g.objs.len();
         if b.stamp.len() != no {
             b.stamp = vec![0; no];
             b.pos = vec![0; no];
-            b.fixed = vec![0; no];
             b.epoch = 0;
         }
         b.epoch = b.epoch.wrapping_add(1);
         if b.epoch == 0 {
             b.stamp.fill(0);
-            b.fixed.fill(0);
             b.epoch = 1;
         }
         let e = b.epoch;
@@ -1033,121 +1116,29 @@ impl Bounds {
             b.pos[o as usize] = j as u32;
         }
         b.val.clear();
-        b.val.extend(vals.iter().map(|v| v.0));
-        b.post.clear();
-        b.post.extend(vals.iter().map(|v| v.1));
-        b.has_users = false;
-    }
-
-    /// The tree objects whose units need each one (CSR over pre-order positions), and the
-    /// room for one child's values: only for a tree with a child to recompute.
-    fn users(&mut self, g: &Local, preorder: &[(u32, u32)]) {
-        let b = self;
-        b.has_users = true;
-        let m = preorder.len();
-        b.start.clear();
-        b.start.resize(m + 1, 0);
-        for &(_, f) in preorder {
-            for &x in &g.needed[f as usize] {
-                if !g.leaf[x as usize] {
-                    b.start[b.pos[x as usize] as usize + 1] += 1;
-                }
-            }
-        }
-        for j in 0..m {
-            b.start[j + 1] += b.start[j];
-        }
-        b.users.clear();
-        b.users.resize(b.start[m] as usize, 0);
-        b.list.clear();
-        b.list.extend_from_slice(&b.start[..m]);
-        for (q, &(_, f)) in preorder.iter().enumerate() {
-            for &x in &g.needed[f as usize] {
-                if !g.leaf[x as usize] {
-                    let xj = b.pos[x as usize] as usize;
-                    b.users[b.list[xj] as usize] = q as u32;
-                    b.list[xj] += 1;
-                }
-            }
-        }
-        b.dirty.clear();
-        b.dirty.resize(m, 0);
-        b.nval.clear();
-        b.nval.resize(m, 0.0);
-    }
-
-    /// The tree's cost (of the set-up tree `preorder`) read with the object at pre-order
-    /// position `i` (not 0) at `v` and the objects before `i` whose units reach it recomputed
-    /// from their units, in post-order.
-    fn raised(&mut self, g: &Local, w: &[f64], preorder: &[(u32, u32)], i: usize, v: f64) -> f64 {
-        let b = self;
-        if !b.has_users {
-            b.users(g, preorder);
-        }
-        b.child = b.child.wrapping_add(1);
-        if b.child == 0 {
-            b.dirty.fill(0);
-            b.child = 1;
-        }
-        let d = b.child;
-        b.dirty[i] = d;
-        b.nval[i] = v;
-        b.list.clear();
-        b.list.push(i as u32);
-        let mut k = 0;
-        while let Some(&q) = b.list.get(k) {
-            k += 1;
-            for u in b.start[q as usize]..b.start[q as usize + 1] {
-                let r = b.users[u as usize];
-                if (r as usize) < i && b.dirty[r as usize] != d {
-                    b.dirty[r as usize] = d;
-                    b.list.push(r);
-                }
-            }
-        }
-        let mut list = std::mem::take(&mut b.list);
-        list.swap_remove(0);
-        list.sort_unstable_by_key(|&q| b.post[q as usize]);
-        for &q in &list {
-            let f = preorder[q as usize].1 as usize;
-            let mut v = w[f];
-            for &x in &g.needed[f] {
-                let xi = x as usize;
-                v += if g.leaf[xi] {
-                    g.leaf_cost
-                } else {
-                    let xj = b.pos[xi] as usize;
-                    if b.dirty[xj] == d {
-                        b.nval[xj]
-                    } else {
-                        b.val[xj]
-                    }
-                };
-            }
-            b.nval[q as usize] = v;
-        }
-        b.list = list;
-        b.nval[0]
+        b.val.extend_from_slice(vals);
     }
 }
 
 enum Node {
     /// The subspace `at` of the listed subspace `parent` (an index into `Partition::parents`):
     /// its pre-order objects before `at` fixed to their choices, the choice at `at` banned.
-    Open {
-        parent: u32,
-        at: u32,
-    },
-    Done(Box<(Constraints, Solved)>),
+    Open { parent: u32, at: u32 },
+    /// That subspace solved: its best tree.
+    Done { parent: u32, at: u32, found: Found },
 }
 
-/// A listed subspace, kept while its children may still be solved.
+/// A listed subspace, kept while its children may still be solved: the subspace `at` of the
+/// listed subspace `up` (`u32::MAX` for the whole space), and its best tree.
 #[derive(Default)]
 struct Parent {
-    c: Constraints,
+    up: u32,
+    at: u32,
+    /// The listed subspace listed before it with the same `set_key` (`u32::MAX`: none).
+    same: u32,
     preorder: Vec<(u32, u32)>,
     /// Its tree's `Solved::vals`.
-    vals: Vec<(f64, u32)>,
+    vals: Vec<f64>,
 }
 
 struct Item {
@@ -1179,6 +1170,42 @@ impl PartialOrd for Item {
     }
 }
 
+/// A tree `Partition::next` lists: its cost and its units (global ids, in depth-first
+/// post-order).
+struct Listed {
+    cost: f64,
+    units: Vec<u32>,
+}
+
+/// A key of a set of distinct units, whatever their order: two sums of one hash of each
+/// (sets with one key are compared by `same_units`).
+fn set_key(units: &[u32]) -> u128 {
+    let (mut a, mut b) = (0u64, 0u64);
+    for &f in units {
+        // SplitMix64's finaliser, of the unit and of the unit under another constant.
+        let mix = |mut z: u64| {
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        };
+        let x = u64::from(f);
+        a = a.wrapping_add(mix(x.wrapping_add(0x9e37_79b9_7f4a_7c15)));
+        b = b.wrapping_add(mix(x ^ 0xd6e8_feb8_6659_fd93));
+    }
+    (u128::from(a) << 64) | u128::from(b)
+}
+
+/// Whether two trees (their pre-order choices) hold the same units.
+fn same_units(x: &[(u32, u32)], y: &[(u32, u32)]) -> bool {
+    let set = |p: &[(u32, u32)]| {
+        let mut v: Vec<u32> = p.iter().map(|&(_, f)| f).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    set(x) == set(y)
+}
+
 /// Every tree of the local graph under the weights `w`, in (cost, partition order), each set of
 /// units once.
 struct Partition {
@@ -1191,7 +1218,16 @@ struct Partition {
     /// Subspaces listed (popped solved) so far, and those whose children may be in the heap.
     popped: u64,
     parents: Vec<Parent>,
-    listed: FxHashSet<Vec<u32>>,
+    /// Emptied `Parent`s, for their room.
+    spare: Vec<Parent>,
+    /// The constraints of the subspace being solved (or whose children are pushed).
+    cons: Constraints,
+    /// The listed sets of units, by `set_key`: the last parent listed with each (the others
+    /// through `Parent::same`).
+    listed: FxHashMap<u128, u32>,
+    /// The choices of every `Found::Over` solved.
+    arena: Vec<(u32, u32)>,
+    metrics: MetricsScratch,
     work: Work,
     scratch: ReadScratch,
     bounds: Bounds,
@@ -1213,6 +1249,15 @@ impl Partition {
             mut work,
             read: scratch,
             bounds,
+            part:
+                PartBufs {
+                    heap,
+                    spare,
+                    cons,
+                    listed,
+                    arena,
+                    metrics,
+                },
         } = g.buffers();
         let lb = if seeded {
             None
@@ -1222,10 +1267,14 @@ impl Partition {
         let mut p = Self {
             w,
             lb,
-            heap: BinaryHeap::new(),
+            heap,
             popped: 0,
             parents: Vec::new(),
-            listed: FxHashSet::default(),
+            spare,
+            cons,
+            listed,
+            arena,
+            metrics,
             work,
             scratch,
             bounds,
@@ -1245,32 +1294,51 @@ impl Partition {
     }
 
     /// Gives its buffers back to the graph, for a later enumeration.
-    fn recycle(self, g: &Local) {
+    fn recycle(mut self, g: &Local) {
+        self.heap.clear();
+        self.listed.clear();
+        self.arena.clear();
+        let room = Buffers::SPARE.saturating_sub(self.spare.len());
+        self.spare.extend(self.parents.drain(..).take(room));
         g.keep(Buffers {
             work: self.work,
             read: self.scratch,
             bounds: self.bounds,
+            part: PartBufs {
+                heap: self.heap,
+                spare: self.spare,
+                cons: self.cons,
+                listed: self.listed,
+                arena: self.arena,
+                metrics: self.metrics,
+            },
         });
     }
 
-    /// The constraints of an open subspace, from the subspace it was cut from.
-    fn constraints(&self, parent: u32, at: u32) -> Constraints {
-        let Some(pa) = self.parents.get(parent as usize) else {
-            return Constraints::default();
+    /// `Local::metrics` of the tree `next` gave last (its units: `units`).
+    fn last_metrics(&mut self, g: &Local, ctx: &Context<'_>, units: &[u32]) -> TreeMetrics {
+        let preorder = self.parents.last().map_or(&[][..], |p| &p.preorder);
+        g.metrics(ctx, preorder, units, &mut self.metrics)
+    }
+
+    /// The constraints of the subspace `at` of the listed subspace `parent` (`u32::MAX`: the
+    /// whole space), into `c`: its parent's pre-order before `at` fixed (the parent's own fixed
+    /// objects are the start of its pre-order: its tree reaches them first, through their fixed
+    /// choices, as the tree it was cut from did), and the parent's choice at `at` banned with
+    /// every choice banned in the parent's subspace (up the chain of parents).
+    fn constraints(parents: &[Parent], parent: u32, at: u32, c: &mut Constraints) {
+        c.fixed.clear();
+        c.banned.clear();
+        let Some(pa) = parents.get(parent as usize) else {
+            return;
         };
-        // The parent's fixed objects are the start of its pre-order (its tree reaches them
-        // first, through their fixed choices, as the tree it was cut from did), and its
-        // children cut after them.
-        let from = pa.c.fixed.len();
-        debug_assert!(from <= at as usize);
-        debug_assert!(pa.preorder[..from].iter().all(|p| pa.c.fixed.contains(p)));
-        let mut fixed = Vec::with_capacity(at as usize);
-        fixed.extend_from_slice(&pa.c.fixed);
-        fixed.extend_from_slice(&pa.preorder[from..at as usize]);
-        let mut banned = Vec::with_capacity(pa.c.banned.len() + 1);
-        banned.extend_from_slice(&pa.c.banned);
-        banned.push(pa.preorder[at as usize]);
-        Constraints { fixed, banned }
+        c.fixed.extend_from_slice(&pa.preorder[..at as usize]);
+        c.banned.push(pa.preorder[at as usize]);
+        let (mut up, mut at) = (pa.up, pa.at);
+        while let Some(p) = parents.get(up as usize) {
+            c.banned.push(p.preorder[at as usize]);
+            (up, at) = (p.up, p.at);
+        }
     }
 
     /// Pushes the subspaces that partition the rest of a listed subspace (constraints `c`, best
@@ -1278,11 +1346,15 @@ impl Partition {
     /// tree's cost; a subspace whose bound is +infinity has no tree and is left out.
     ///
     /// The child at `o_i` keeps `o_1 .. o_(i-1)` fixed, so its best tree costs at least the
-    /// tree's cost read with `o_i`'s value raised to the cheapest other allowed producer of
-    /// `o_i` (its inputs at their cost in the tree, or over the whole ancestry) and each fixed
-    /// object recomputed from its unit: every other object costs, in any subspace of this one,
-    /// at least its cost in the tree (the tree is this subspace's optimum, and a constraint
-    /// only raises optima), and sums are monotone (floating point included).
+    /// tree's cost raised by `v - val(o_i)`, where `v` is the cheapest other allowed producer
+    /// of `o_i` (its inputs at their cost in the tree, or over the whole ancestry): every
+    /// object costs, in any subspace of this one, at least its cost in the tree (the tree is
+    /// this subspace's optimum, and a constraint only raises optima); the objects on the
+    /// tree's path from the goal to `o_i` come before it in pre-order, so they are fixed, and
+    /// each one's cost is its unit's weight plus its inputs', one of them the next on the path:
+    /// the rise at `o_i` reaches the goal at least once. Every weight is non-negative, so the
+    /// sums' rounding is a relative error of about (height x inputs per unit) x 1e-16, far
+    /// below 1e-9; the bound is lowered by a relative 1e-9 to stay below the computed cost.
     fn children(&mut self, g: &Local, parent: u32) {
         let Self {
             parents, deferred, ..
@@ -1291,12 +1363,26 @@ impl Partition {
             return;
         };
         let pa = std::mem::take(&mut parents[parent as usize]);
-        self.push_children(g, &pa, cost, n, parent);
+        let mut c = std::mem::take(&mut self.cons);
+        Self::constraints(&self.parents, pa.up, pa.at, &mut c);
+        self.push_children(g, &pa, &c, cost, n, parent);
+        self.cons = c;
         self.parents[parent as usize] = pa;
     }
 
-    fn push_children(&mut self, g: &Local, pa: &Parent, cost: f64, n: u64, parent: u32) {
-        let (c, preorder) = (&pa.c, &pa.preorder[..]);
+    fn push_children(
+        &mut self,
+        g: &Local,
+        pa: &Parent,
+        c: &Constraints,
+        cost: f64,
+        n: u64,
+        parent: u32,
+    ) {
+        let preorder = &pa.preorder[..];
+        // The fixed objects, the start of the pre-order, have no child.
+        let from = c.fixed.len();
+        debug_assert!(preorder[..from].iter().all(|p| c.fixed.contains(p)));
         let w = self.w.as_deref().unwrap_or(&g.weight);
         let lb = match (&self.lb, &g.opt) {
             (Some(lb), _) => lb,
@@ -1308,9 +1394,6 @@ impl Partition {
         b.setup(g, preorder, &pa.vals);
         debug_assert!(preorder.is_empty() || b.val[0].to_bits() == cost.to_bits());
         let e = b.epoch;
-        for &(o, _) in &c.fixed {
-            b.fixed[o as usize] = e;
-        }
         // A lower bound on an input's cost in every child.
         let low = |b: &Bounds, x: u32| -> f64 {
             let xi = x as usize;
@@ -1322,10 +1405,7 @@ impl Partition {
                 lb[xi]
             }
         };
-        for (i, &(o, ci)) in preorder.iter().enumerate() {
-            if b.fixed[o as usize] == e {
-                continue;
-            }
+        for (i, &(o, ci)) in preorder.iter().enumerate().skip(from) {
             let mut alt = f64::INFINITY;
             for &f in &g.made_by[o as usize] {
                 if f == ci || c.banned.contains(&(o, f)) {
@@ -1349,8 +1429,8 @@ impl Partition {
             } else if i == 0 {
                 v
             } else {
-                // Recompute the fixed objects (pre-order before i) whose units reach o_i.
-                b.raised(g, w, preorder, i, v)
+                let raised = cost + (v - b.val[i]);
+                raised - raised * 1e-9
             };
             self.heap.push(Item {
                 key: key.max(cost),
@@ -1363,8 +1443,14 @@ impl Partition {
         }
     }
 
-    /// The next tree (cost, pre-order choices, units), or `None` when every tree was listed.
-    fn next(&mut self, g: &Local, ctx: &Context<'_>) -> Result<Option<Solved>> {
+    /// The pre-order choices of the tree `next` gave last.
+    fn last_preorder(&self) -> &[(u32, u32)] {
+        self.parents.last().map_or(&[], |p| &p.preorder)
+    }
+
+    /// The next tree (its pre-order choices: `last_preorder`), or `None` when every tree was
+    /// listed.
+    fn next(&mut self, g: &Local, ctx: &Context<'_>) -> Result<Option<Listed>> {
         if self.deferred.is_some() {
             self.children(g, self.parents.len() as u32 - 1);
         }
@@ -1373,43 +1459,83 @@ impl Partition {
                 Node::Open { parent, at } => {
                     self.solved += 1;
                     ctx.check_stop()?;
-                    let c = self.constraints(parent, at);
+                    let mut c = std::mem::take(&mut self.cons);
+                    Self::constraints(&self.parents, parent, at, &mut c);
                     let w = self.w.as_deref().unwrap_or(&g.weight);
                     let s = if self.seeded {
-                        g.solve_seeded(w, &c, &mut self.work, &mut self.scratch)
+                        g.solve_seeded(w, &c, &mut self.work, &mut self.scratch, &mut self.arena)
                     } else {
                         Seeded::Full
                     };
                     let s = match s {
                         Seeded::Tree(s) => Some(s),
                         Seeded::Empty => None,
-                        Seeded::Full => g.solve(w, &c, &mut self.work, &mut self.scratch),
+                        Seeded::Full => g
+                            .solve(w, &c, &mut self.work, &mut self.scratch)
+                            .map(|s| Found::Tree(Box::new(s))),
                     };
-                    if let Some(s) = s {
+                    self.cons = c;
+                    if let Some(found) = s {
                         self.heap.push(Item {
-                            key: s.cost,
+                            key: found.cost(),
                             ord: item.ord,
-                            node: Node::Done(Box::new((c, s))),
+                            node: Node::Done { parent, at, found },
                         });
                     }
                 }
-                Node::Done(done) => {
-                    let (c, mut s) = *done;
+                Node::Done {
+                    parent: up,
+                    at,
+                    found,
+                } => {
+                    let mut pa = self.spare.pop().unwrap_or_default();
+                    let (cost, units) = match found {
+                        Found::Tree(s) => {
+                            let s = *s;
+                            (pa.preorder, pa.vals) = (s.preorder, s.vals);
+                            (s.cost, s.units)
+                        }
+                        Found::Over {
+                            cost,
+                            choices: (a, b),
+                        } => {
+                            let w = self.w.as_deref().unwrap_or(&g.weight);
+                            let mut units = Vec::new();
+                            g.read_over(
+                                w,
+                                &self.arena[a as usize..b as usize],
+                                &mut self.work,
+                                &mut self.scratch,
+                                (&mut pa.preorder, &mut units, &mut pa.vals),
+                            );
+                            (cost, units)
+                        }
+                    };
+                    (pa.up, pa.at, pa.same) = (up, at, u32::MAX);
                     // The rest of this subspace: agree on the first i - 1 objects, differ at i
                     // (pushed before the next pop: at once when the tree is passed over, else
                     // on the next call).
                     self.popped += 1;
                     let parent = self.parents.len() as u32;
-                    self.parents.push(Parent {
-                        c,
-                        preorder: s.preorder.clone(),
-                        vals: std::mem::take(&mut s.vals),
-                    });
-                    self.deferred = Some((self.popped, s.cost));
-                    let mut set = s.units.clone();
-                    set.sort_unstable();
-                    if self.listed.insert(set) {
-                        return Ok(Some(s));
+                    let key = set_key(&units);
+                    let head = self.listed.get(&key).copied().unwrap_or(u32::MAX);
+                    let mut q = head;
+                    let mut same = false;
+                    while let Some(p) = self.parents.get(q as usize) {
+                        if same_units(&p.preorder, &pa.preorder) {
+                            same = true;
+                            break;
+                        }
+                        q = p.same;
+                    }
+                    if !same {
+                        pa.same = head;
+                        self.listed.insert(key, parent);
+                    }
+                    self.parents.push(pa);
+                    self.deferred = Some((self.popped, cost));
+                    if !same {
+                        return Ok(Some(Listed { cost, units }));
                     }
                     self.children(g, parent);
                 }
@@ -1448,7 +1574,6 @@ pub struct KBest {
     /// Diverse mode: the sets listed so far, and how many of them use each local unit.
     earlier: FxHashSet<Vec<u32>>,
     uses: Vec<u32>,
-    scratch: MetricsScratch,
     evaluations: u64,
 }
 
@@ -1501,7 +1626,6 @@ impl KBest {
             diverse,
             earlier: FxHashSet::default(),
             uses,
-            scratch: MetricsScratch::default(),
             evaluations: 0,
         })
     }
@@ -1610,10 +1734,10 @@ impl KBest {
         }) else {
             return Ok(None);
         };
-        let metrics = Some(g.metrics(ctx, &s.preorder, &s.units, &mut self.scratch));
+        let metrics = Some(part.last_metrics(g, ctx, &s.units));
         // Under the penalised weights, the cost of the tree's assignment under the plain ones.
         let cost = if part.w.is_some() {
-            g.tree_cost(&g.weight, &s.preorder)
+            g.tree_cost(&g.weight, part.last_preorder())
         } else {
             s.cost
         };
