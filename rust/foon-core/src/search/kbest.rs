@@ -884,54 +884,50 @@ impl Local {
         // An object's unit is pushed (with the object's place in `pre`) unless emitted
         // already: then the object's cost is that unit's (the choices are acyclic, so a unit
         // on the stack is never reached again from its inputs).
-        let mut visit = |o: u32,
-                         stack: &mut Vec<(u32, usize, u32)>,
-                         pre: &mut Vec<(u32, u32)>,
-                         vals: &mut Vec<f64>,
-                         emitted: &[u32],
-                         oval: &mut [f64],
-                         uval: &[f64]| {
-            if self.leaf[o as usize] || seen[o as usize] == e {
-                return;
-            }
-            seen[o as usize] = e;
-            let f = choice(o);
-            let j = pre.len() as u32;
-            pre.push((o, f));
-            if emitted[f as usize] == e {
-                oval[o as usize] = uval[f as usize];
-                vals.push(uval[f as usize]);
-            } else {
-                vals.push(f64::NAN);
-                stack.push((f, 0, j));
-            }
-        };
-        visit(self.goal, stack, pre, vals, emitted, oval, uval);
-        while let Some(&mut (f, ref mut i, j)) = stack.last_mut() {
-            let ins = &self.needed[f as usize];
-            if *i < ins.len() {
-                let x = ins[*i];
-                *i += 1;
-                visit(x, stack, pre, vals, emitted, oval, uval);
-            } else {
-                stack.pop();
-                let fi = f as usize;
-                if emitted[fi] != e {
-                    emitted[fi] = e;
-                    let mut v = w[fi];
-                    for &x in ins {
-                        v += if self.leaf[x as usize] {
-                            self.leaf_cost
-                        } else {
-                            oval[x as usize]
-                        };
+        let mut next = Some(self.goal);
+        loop {
+            if let Some(o) = next.take() {
+                let oi = o as usize;
+                if !self.leaf[oi] && seen[oi] != e {
+                    seen[oi] = e;
+                    let f = choice(o);
+                    let j = pre.len() as u32;
+                    pre.push((o, f));
+                    if emitted[f as usize] == e {
+                        oval[oi] = uval[f as usize];
+                        vals.push(uval[f as usize]);
+                    } else {
+                        vals.push(f64::NAN);
+                        stack.push((f, 0, j));
                     }
-                    uval[fi] = v;
-                    units.push(self.fus[fi]);
                 }
-                oval[pre[j as usize].0 as usize] = uval[fi];
-                vals[j as usize] = uval[fi];
             }
+            let Some(&mut (f, ref mut i, j)) = stack.last_mut() else {
+                break;
+            };
+            let ins = &self.needed[f as usize];
+            if let Some(&x) = ins.get(*i) {
+                *i += 1;
+                next = Some(x);
+                continue;
+            }
+            stack.pop();
+            let fi = f as usize;
+            if emitted[fi] != e {
+                emitted[fi] = e;
+                let mut v = w[fi];
+                for &x in ins {
+                    v += if self.leaf[x as usize] {
+                        self.leaf_cost
+                    } else {
+                        oval[x as usize]
+                    };
+                }
+                uval[fi] = v;
+                units.push(self.fus[fi]);
+            }
+            oval[pre[j as usize].0 as usize] = uval[fi];
+            vals[j as usize] = uval[fi];
         }
         *size = (pre.len(), units.len());
     }
@@ -1630,6 +1626,20 @@ impl KBest {
         })
     }
 
+    /// Builds the goal's ancestry now when the first tree would be read as the optimal plan
+    /// reads it: for a caller that wants more than one tree (the first then comes from the
+    /// ancestry too, the same tree with the same figures, and costs less than the plan's way).
+    pub fn eager(&mut self, ctx: &Context<'_>) -> Result<()> {
+        if self.pending {
+            let g = AncestryCache::local(ctx, self.goal, self.method)?;
+            self.pending = false;
+            self.uses = vec![0; g.fus.len()];
+            self.part = Some(Partition::new(&g, None));
+            self.graph = Some(g);
+        }
+        Ok(())
+    }
+
     /// Subspaces solved so far (the first from the kitchen's optimum, the others by Knuth's
     /// algorithm over the goal's ancestry).
     pub fn evaluations(&self) -> u64 {
@@ -1795,6 +1805,9 @@ impl Context<'_> {
     /// fewer trees; none when the goal cannot be made).
     pub fn plan_k(&self, goal: u32, method: Method, k: usize, diverse: bool) -> Result<Vec<Plan>> {
         let mut it = KBest::new(self, goal, method, diverse)?;
+        if k > 1 {
+            it.eager(self)?;
+        }
         let mut out = Vec::with_capacity(k.min(16));
         while out.len() < k {
             let Some(r) = it.next_tree(self)? else { break };
