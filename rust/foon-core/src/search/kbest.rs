@@ -21,6 +21,7 @@ use std::sync::{Arc, Mutex};
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::optimal::Entry;
+use super::scratch::IdMap;
 use super::{Context, Method, Plan, Query, optimal, tree};
 use crate::error::{Error, Result};
 use crate::evaluate::{self, ShapeBuf, StampedMarks, TreeMetrics, TreeView};
@@ -141,6 +142,9 @@ struct Opt {
 #[derive(Default)]
 pub(crate) struct AncestryCache {
     map: Mutex<FxHashMap<(u32, u8), Arc<Local>>>,
+    /// An object-indexed array of `Local::new` (every entry `NONE` between calls), kept so
+    /// that a build costs its ancestry, not a pass over the FOON's objects.
+    at: Mutex<Vec<u32>>,
 }
 
 impl AncestryCache {
@@ -154,6 +158,14 @@ impl AncestryCache {
     fn lock(&self) -> std::sync::MutexGuard<'_, FxHashMap<(u32, u8), Arc<Local>>> {
         // A poisoned lock only means a thread panicked while holding it: the map is whole.
         self.map
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    fn lock_at(&self) -> std::sync::MutexGuard<'_, Vec<u32>> {
+        // A poisoned lock only means a thread panicked while holding it: the array is whole
+        // (it is taken out while in use).
+        self.at
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
@@ -265,8 +277,22 @@ impl Local {
         let foon = ctx.foon;
         let ranks = ctx.ranks();
         // Global id -> local id (NONE: not in the ancestry); 0 marks "seen" until the ids are
-        // sorted.
-        let mut at = ctx.id_map(foon.object_count(), NONE);
+        // sorted. An array kept by the kitchen when the FOON is small enough for one (else a
+        // map of the entries set), all `NONE` again when it is given back.
+        let n = foon.object_count();
+        let kept = if n <= ctx.scratch_limit() {
+            let mut v = std::mem::take(&mut *ctx.kbest.lock_at());
+            if v.len() != n {
+                v = vec![NONE; n];
+            }
+            Some(v)
+        } else {
+            None
+        };
+        let mut at = match kept {
+            Some(v) => IdMap::Dense(v),
+            None => ctx.id_map(n, NONE),
+        };
         let mut seen_f = ctx.id_map(foon.fu_count(), false);
         let mut objs = Vec::with_capacity(256);
         objs.push(goal);
@@ -350,8 +376,16 @@ impl Local {
             }
         }
         let opt_users = opt_needs.transpose(if opt.is_some() { objs.len() } else { 0 });
+        let goal = at.get(goal);
+        if let (true, IdMap::Dense(mut v)) = (n <= ctx.scratch_limit(), at) {
+            // Only the ancestry's entries were set.
+            for &o in &objs {
+                v[o as usize] = NONE;
+            }
+            *ctx.kbest.lock_at() = v;
+        }
         Ok(Self {
-            goal: at.get(goal),
+            goal,
             objs,
             leaf,
             fus,
