@@ -88,13 +88,18 @@ impl Buffers {
     const SPARE: usize = 64;
 }
 
-/// The containers of a `Partition`, emptied, kept with their room.
+/// The containers of a `Partition`, kept with their room (emptied between calls).
 #[derive(Default)]
 struct PartBufs {
     heap: BinaryHeap<Item>,
+    /// Emptied `Parent`s, for their room.
     spare: Vec<Parent>,
+    /// The constraints of the subspace being solved (or whose children are pushed).
     cons: Constraints,
+    /// The listed sets of units, by `set_key`: the last parent listed with each (the others
+    /// through `Parent::same`).
     listed: FxHashMap<u128, u32>,
+    /// The choices of every `Found::Over` solved.
     arena: Vec<(u32, u32)>,
     metrics: MetricsScratch,
 }
@@ -1244,20 +1249,11 @@ struct Partition {
     /// Every object's cost over the whole ancestry under the weights: a lower bound in every
     /// subspace; `None` for the kitchen's optimum.
     lb: Option<Vec<f64>>,
-    heap: BinaryHeap<Item>,
     /// Subspaces listed (popped solved) so far, and those whose children may be in the heap.
     popped: u64,
     parents: Vec<Parent>,
-    /// Emptied `Parent`s, for their room.
-    spare: Vec<Parent>,
-    /// The constraints of the subspace being solved (or whose children are pushed).
-    cons: Constraints,
-    /// The listed sets of units, by `set_key`: the last parent listed with each (the others
-    /// through `Parent::same`).
-    listed: FxHashMap<u128, u32>,
-    /// The choices of every `Found::Over` solved.
-    arena: Vec<(u32, u32)>,
-    metrics: MetricsScratch,
+    /// The heap and the other containers, kept between calls.
+    bufs: PartBufs,
     work: Work,
     scratch: ReadScratch,
     bounds: Bounds,
@@ -1279,15 +1275,7 @@ impl Partition {
             mut work,
             read: scratch,
             bounds,
-            part:
-                PartBufs {
-                    heap,
-                    spare,
-                    cons,
-                    listed,
-                    arena,
-                    metrics,
-                },
+            part: bufs,
         } = g.buffers();
         let lb = if seeded {
             None
@@ -1297,14 +1285,9 @@ impl Partition {
         let mut p = Self {
             w,
             lb,
-            heap,
             popped: 0,
             parents: Vec::new(),
-            spare,
-            cons,
-            listed,
-            arena,
-            metrics,
+            bufs,
             work,
             scratch,
             bounds,
@@ -1312,7 +1295,7 @@ impl Partition {
             seeded,
             deferred: None,
         };
-        p.heap.push(Item {
+        p.bufs.heap.push(Item {
             key: f64::NEG_INFINITY,
             ord: (0, 0),
             node: Node::Open {
@@ -1325,30 +1308,24 @@ impl Partition {
 
     /// Gives its buffers back to the graph, for a later enumeration.
     fn recycle(mut self, g: &Local) {
-        self.heap.clear();
-        self.listed.clear();
-        self.arena.clear();
-        let room = Buffers::SPARE.saturating_sub(self.spare.len());
-        self.spare.extend(self.parents.drain(..).take(room));
+        let b = &mut self.bufs;
+        b.heap.clear();
+        b.listed.clear();
+        b.arena.clear();
+        let room = Buffers::SPARE.saturating_sub(b.spare.len());
+        b.spare.extend(self.parents.drain(..).take(room));
         g.keep(Buffers {
             work: self.work,
             read: self.scratch,
             bounds: self.bounds,
-            part: PartBufs {
-                heap: self.heap,
-                spare: self.spare,
-                cons: self.cons,
-                listed: self.listed,
-                arena: self.arena,
-                metrics: self.metrics,
-            },
+            part: self.bufs,
         });
     }
 
     /// `Local::metrics` of the tree `next` gave last (its units: `units`).
     fn last_metrics(&mut self, g: &Local, ctx: &Context<'_>, units: &[u32]) -> TreeMetrics {
         let preorder = self.parents.last().map_or(&[][..], |p| &p.preorder);
-        g.metrics(ctx, preorder, units, &mut self.metrics)
+        g.metrics(ctx, preorder, units, &mut self.bufs.metrics)
     }
 
     /// The constraints of the subspace `at` of the listed subspace `parent` (`u32::MAX`: the
@@ -1393,10 +1370,10 @@ impl Partition {
             return;
         };
         let pa = std::mem::take(&mut parents[parent as usize]);
-        let mut c = std::mem::take(&mut self.cons);
+        let mut c = std::mem::take(&mut self.bufs.cons);
         Self::constraints(&self.parents, pa.up, pa.at, &mut c);
         self.push_children(g, &pa, &c, cost, n, parent);
-        self.cons = c;
+        self.bufs.cons = c;
         self.parents[parent as usize] = pa;
     }
 
@@ -1462,7 +1439,7 @@ impl Partition {
                 let raised = cost + (v - b.val[i]);
                 raised - raised * 1e-9
             };
-            self.heap.push(Item {
+            self.bufs.heap.push(Item {
                 key: key.max(cost),
                 ord: (n, i as u32),
                 node: Node::Open {
@@ -1484,16 +1461,22 @@ impl Partition {
         if self.deferred.is_some() {
             self.children(g, self.parents.len() as u32 - 1);
         }
-        while let Some(item) = self.heap.pop() {
+        while let Some(item) = self.bufs.heap.pop() {
             match item.node {
                 Node::Open { parent, at } => {
                     self.solved += 1;
                     ctx.check_stop()?;
-                    let mut c = std::mem::take(&mut self.cons);
+                    let mut c = std::mem::take(&mut self.bufs.cons);
                     Self::constraints(&self.parents, parent, at, &mut c);
                     let w = self.w.as_deref().unwrap_or(&g.weight);
                     let s = if self.seeded {
-                        g.solve_seeded(w, &c, &mut self.work, &mut self.scratch, &mut self.arena)
+                        g.solve_seeded(
+                            w,
+                            &c,
+                            &mut self.work,
+                            &mut self.scratch,
+                            &mut self.bufs.arena,
+                        )
                     } else {
                         Seeded::Full
                     };
@@ -1504,9 +1487,9 @@ impl Partition {
                             .solve(w, &c, &mut self.work, &mut self.scratch)
                             .map(|s| Found::Tree(Box::new(s))),
                     };
-                    self.cons = c;
+                    self.bufs.cons = c;
                     if let Some(found) = s {
-                        self.heap.push(Item {
+                        self.bufs.heap.push(Item {
                             key: found.cost(),
                             ord: item.ord,
                             node: Node::Done { parent, at, found },
@@ -1518,7 +1501,7 @@ impl Partition {
                     at,
                     found,
                 } => {
-                    let mut pa = self.spare.pop().unwrap_or_default();
+                    let mut pa = self.bufs.spare.pop().unwrap_or_default();
                     let (cost, units) = match found {
                         Found::Tree(s) => {
                             let s = *s;
@@ -1533,7 +1516,7 @@ impl Partition {
                             let mut units = Vec::new();
                             g.read_over(
                                 w,
-                                &self.arena[a as usize..b as usize],
+                                &self.bufs.arena[a as usize..b as usize],
                                 &mut self.work,
                                 &mut self.scratch,
                                 (&mut pa.preorder, &mut units, &mut pa.vals),
@@ -1548,7 +1531,7 @@ impl Partition {
                     self.popped += 1;
                     let parent = self.parents.len() as u32;
                     let key = set_key(&units);
-                    let head = self.listed.get(&key).copied().unwrap_or(u32::MAX);
+                    let head = self.bufs.listed.get(&key).copied().unwrap_or(u32::MAX);
                     let mut q = head;
                     let mut same = false;
                     while let Some(p) = self.parents.get(q as usize) {
@@ -1560,7 +1543,7 @@ impl Partition {
                     }
                     if !same {
                         pa.same = head;
-                        self.listed.insert(key, parent);
+                        self.bufs.listed.insert(key, parent);
                     }
                     self.parents.push(pa);
                     self.deferred = Some((self.popped, cost));
