@@ -121,12 +121,12 @@ impl<'a> Context<'a> {
         self.from_scratch
     }
 
-    /// Per-search state over `len` ids (objects or FUs), all at `default`.
     /// Id spaces up to this many entries use arrays (`id_map`).
     pub(super) fn scratch_limit(&self) -> usize {
         self.scratch_limit
     }
 
+    /// Per-search state over `len` ids (objects or FUs), all at `default`.
     pub(super) fn id_map<T: Copy + PartialEq>(&self, len: usize, default: T) -> scratch::IdMap<T> {
         scratch::IdMap::new(len, default, self.scratch_limit)
     }

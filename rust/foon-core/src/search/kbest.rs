@@ -86,6 +86,9 @@ impl Buffers {
     const KEPT: usize = 4;
     /// How many emptied listed subspaces (their vectors) a kept `PartBufs` holds at most.
     const SPARE: usize = 64;
+    /// The room a kept `PartBufs` keeps at most: entries of its heap and map (and 16 times
+    /// as many choices).
+    const ROOM: usize = 4096;
 }
 
 /// The containers of a `Partition`, kept with their room (emptied between calls).
@@ -740,6 +743,17 @@ impl Local {
         if !work.done[g] || !work.cost[g].is_finite() {
             return Seeded::Empty;
         }
+        if arena.len() + work.list.len() > u32::MAX as usize {
+            // No room left in the arena's ranges: the tree is read now.
+            let mut s = Box::new(Solved::new(work.cost[g]));
+            let choices: Vec<(u32, u32)> = work
+                .list
+                .iter()
+                .map(|&o| (o, work.choice[o as usize]))
+                .collect();
+            self.read_over(w, &choices, work, scratch, s.out());
+            return Seeded::Tree(Found::Tree(s));
+        }
         let start = arena.len() as u32;
         arena.extend(work.list.iter().map(|&o| (o, work.choice[o as usize])));
         Seeded::Tree(Found::Over {
@@ -1264,6 +1278,9 @@ struct Partition {
     /// The last listed subspace's children are still to be pushed: its listing number and
     /// its tree's cost (it is the last of `parents`).
     deferred: Option<(u64, f64)>,
+    /// Every weight and the leaf cost are whole numbers: the trees' sums are exact, and the
+    /// children's bounds need no margin for rounding.
+    exact: bool,
 }
 
 impl Partition {
@@ -1271,6 +1288,11 @@ impl Partition {
     /// are solved from the kitchen's optimum when it is known).
     fn new(g: &Local, w: Option<Vec<f64>>) -> Self {
         let seeded = w.is_none() && g.opt.is_some();
+        // Whole weights below 2^32: every sum of a tree is a whole number below 2^53 for any
+        // tree that fits in memory, so exact.
+        let whole = |x: f64| x.fract() == 0.0 && (0.0..4_294_967_296.0).contains(&x);
+        let exact =
+            whole(g.leaf_cost) && w.as_deref().unwrap_or(&g.weight).iter().all(|&x| whole(x));
         let Buffers {
             mut work,
             read: scratch,
@@ -1294,6 +1316,7 @@ impl Partition {
             solved: 0,
             seeded,
             deferred: None,
+            exact,
         };
         p.bufs.heap.push(Item {
             key: f64::NEG_INFINITY,
@@ -1308,10 +1331,15 @@ impl Partition {
 
     /// Gives its buffers back to the graph, for a later enumeration.
     fn recycle(mut self, g: &Local) {
+        // Emptied, and no larger than an enumeration of a few thousand trees needs: a long
+        // one does not keep its peak room for the kitchen's lifetime.
         let b = &mut self.bufs;
         b.heap.clear();
+        b.heap.shrink_to(Buffers::ROOM);
         b.listed.clear();
+        b.listed.shrink_to(Buffers::ROOM);
         b.arena.clear();
+        b.arena.shrink_to(Buffers::ROOM * 16);
         let room = Buffers::SPARE.saturating_sub(b.spare.len());
         b.spare.extend(self.parents.drain(..).take(room));
         g.keep(Buffers {
@@ -1359,9 +1387,11 @@ impl Partition {
     /// this subspace's optimum, and a constraint only raises optima); the objects on the
     /// tree's path from the goal to `o_i` come before it in pre-order, so they are fixed, and
     /// each one's cost is its unit's weight plus its inputs', one of them the next on the path:
-    /// the rise at `o_i` reaches the goal at least once. Every weight is non-negative, so the
-    /// sums' rounding is a relative error of about (height x inputs per unit) x 1e-16, far
-    /// below 1e-9; the bound is lowered by a relative 1e-9 to stay below the computed cost.
+    /// the rise at `o_i` reaches the goal at least once. With whole weights (`optimal-units`,
+    /// `optimal-inputs`) the sums are exact and so is the bound. Otherwise every weight is
+    /// non-negative, so the sums' rounding is a relative error of at most about 2^-52 per
+    /// addition along a path, below 1e-9 for fewer than about four million additions; the
+    /// bound is lowered by a relative 1e-9 to stay below the computed cost.
     fn children(&mut self, g: &Local, parent: u32) {
         let Self {
             parents, deferred, ..
@@ -1435,6 +1465,8 @@ impl Partition {
                 cost
             } else if i == 0 {
                 v
+            } else if self.exact {
+                cost + (v - b.val[i])
             } else {
                 let raised = cost + (v - b.val[i]);
                 raised - raised * 1e-9
