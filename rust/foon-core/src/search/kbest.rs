@@ -11,8 +11,8 @@
 //! a partition of the rest. Subspaces are solved only when their lower bound (the cost of the
 //! tree they were cut from, raised by the rise of the object they differ at to its next
 //! producer: see `Partition::children`) comes first; they are listed in (cost, place in the
-//! partition) order. Assignments that give a set of units already listed are skipped, so every set comes
-//! once, at its lowest cost.
+//! partition) order. Assignments that give a set of units already listed are skipped, so
+//! every set comes once, at its lowest cost.
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -288,7 +288,8 @@ impl Local {
         // sorted. An array kept by the kitchen when the FOON is small enough for one (else a
         // map of the entries set), all `NONE` again when it is given back.
         let n = foon.object_count();
-        let kept = if n <= ctx.scratch_limit() {
+        let pooled = n <= ctx.scratch_limit();
+        let kept = if pooled {
             let mut v = std::mem::take(&mut *ctx.kbest.lock_at());
             if v.len() != n {
                 v = vec![NONE; n];
@@ -385,7 +386,7 @@ impl Local {
         }
         let opt_users = opt_needs.transpose(if opt.is_some() { objs.len() } else { 0 });
         let goal = at.get(goal);
-        if let (true, IdMap::Dense(mut v)) = (n <= ctx.scratch_limit(), at) {
+        if let (true, IdMap::Dense(mut v)) = (pooled, at) {
             // Only the ancestry's entries were set.
             for &o in &objs {
                 v[o as usize] = NONE;
@@ -411,7 +412,7 @@ impl Local {
 }
 
 /// Constraints of a subspace: (object, unit) pairs in local ids.
-#[derive(Clone, Default)]
+#[derive(Default)]
 struct Constraints {
     fixed: Vec<(u32, u32)>,
     banned: Vec<(u32, u32)>,
@@ -453,8 +454,9 @@ enum Seeded {
     Full,
 }
 
-/// A subspace's best tree: read, or its cost and the choices of the affected objects (read from the optimum's choices and these, by `Local::read_over`,
-/// only when it is listed: most solved subspaces never are).
+/// A subspace's best tree: read, or its cost and the choices of its affected objects (the
+/// tree is read from the optimum's choices and these, by `Local::read_over`, only when it is
+/// listed: most solved subspaces never are).
 enum Found {
     Tree(Box<Solved>),
     /// The choices: a range of `Partition::arena`.
@@ -1680,12 +1682,19 @@ impl KBest {
     /// ancestry too, the same tree with the same figures, and costs less than the plan's way).
     pub fn eager(&mut self, ctx: &Context<'_>) -> Result<()> {
         if self.pending {
-            let g = AncestryCache::local(ctx, self.goal, self.method)?;
+            self.start(ctx)?;
             self.pending = false;
-            self.uses = vec![0; g.fus.len()];
-            self.part = Some(Partition::new(&g, None));
-            self.graph = Some(g);
         }
+        Ok(())
+    }
+
+    /// The goal's ancestry (kept by the kitchen, or built) and a partition over it, from the
+    /// whole space.
+    fn start(&mut self, ctx: &Context<'_>) -> Result<()> {
+        let g = AncestryCache::local(ctx, self.goal, self.method)?;
+        self.uses = vec![0; g.fus.len()];
+        self.part = Some(Partition::new(&g, None));
+        self.graph = Some(g);
         Ok(())
     }
 
@@ -1755,18 +1764,16 @@ impl KBest {
             }
         }
         if let Some(first) = self.given.take() {
-            let g = AncestryCache::local(ctx, self.goal, self.method)?;
-            self.uses = vec![0; g.fus.len()];
-            let mut part = Partition::new(&g, None);
-            if !self.diverse {
+            self.start(ctx)?;
+            if let (false, Some(g), Some(part)) =
+                (self.diverse, self.graph.as_deref(), &mut self.part)
+            {
                 // The root subspace again (its tree is the one given): listed, its children
                 // pushed.
-                let root = part.next(&g, ctx)?;
+                let root = part.next(g, ctx)?;
                 debug_assert!(root.is_some_and(|s| s.units == first));
                 self.evaluations = 0;
             }
-            self.graph = Some(g);
-            self.part = Some(part);
             if self.diverse {
                 let mut set = first.clone();
                 set.sort_unstable();
