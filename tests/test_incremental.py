@@ -51,7 +51,19 @@ def check(base: foon.Planner, add: list[foon.Object], remove: list[foon.Object],
     assert inc.kitchen == kitchen
     assert inc == fresh
     assert inc.ranks() == fresh.ranks()
-    assert results(inc) == results(fresh)
+    want = results(fresh)
+    assert results(inc) == want
+    # Goals planned one by one in a random order, the methods interleaved: each plan runs
+    # the pending updates of another planner from the same change only as far as its goal.
+    one = base.with_changes(add=add, remove=remove)
+    order = [(g, m) for g in range(base.foon.object_count) for m in METHODS]
+    random.Random(len(order)).shuffle(order)
+    for g, m in order:
+        t = one.plan(g, m)
+        assert tuple(getattr(t, a) for a in RESULT_FIELDS) == want[m][g], (g, m)
+    # Run to the end, the updates give the same plans again.
+    one.finish_updates()
+    assert results(one) == want
 
 
 def objects_of(f: foon.Foon, ids: list[int]) -> list[foon.Object]:
@@ -151,4 +163,47 @@ def test_course_deltas(course: Course, seed: int) -> None:
             fresh = foon.Planner(f, course.kitchen.without(r).with_items(a),
                                  motions=course.motions, utensils=course.utensils)  # fmt: skip
             assert inc.ranks() == fresh.ranks()
-            assert results(inc) == results(fresh)
+            want = results(fresh)
+            assert results(inc) == want
+            # The goals one by one, in a random order, through the pending updates.
+            one = base.with_changes(add=a, remove=r)
+            goals = list(range(f.object_count))
+            rnd.shuffle(goals)
+            for m in ("optimal-units", "optimal-success"):
+                for g in goals[:400]:
+                    t = one.plan(g, m)
+                    assert tuple(getattr(t, x) for x in RESULT_FIELDS) == want[m][g], (g, m)
+
+
+def test_finish_updates_from_several_threads() -> None:
+    """Plans from several Python threads at once on a planner whose updates are pending, and
+    `finish_updates` called meanwhile, give the plans of a planner prepared from scratch."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    text = "".join(
+        f"O\ti{i}\nS\tx\nO\tj{i % 7}\nS\tx\nM\tmix\nO\ti{i + 1}\nS\tx\n//\n"
+        f"O\tj{i % 7}\nS\tx\nM\tchop\nO\ti{i + 2}\nS\tx\n//\n"
+        for i in range(60)
+    )
+    f = foon.Foon.from_text(text)
+    kitchen = [f.object(0)] + [o for o in (f.object(i) for i in range(f.object_count))
+                               if o.label.startswith("j")]  # fmt: skip
+    base = foon.Planner(f, kitchen, motions={"mix": 0.5, "chop": 0.9})
+    results(base)
+    add = [f.object(5), f.object(11)]
+    inc = base.with_changes(add=add)
+    fresh = foon.Planner(f, base.kitchen.with_items(add), motions={"mix": 0.5, "chop": 0.9})
+    want = results(fresh)
+    jobs = [(g, m) for g in range(f.object_count) for m in METHODS]
+    random.Random(9).shuffle(jobs)
+
+    def plan(job: tuple[int, str]) -> tuple[object, ...]:
+        g, m = job
+        if g == 3 and m == "ids":
+            inc.finish_updates()
+        t = inc.plan(g, m)
+        return tuple(getattr(t, a) for a in RESULT_FIELDS)
+
+    with ThreadPoolExecutor(4) as ex:
+        got = list(ex.map(plan, jobs))
+    assert got == [want[m][g] for g, m in jobs]

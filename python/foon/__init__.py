@@ -1676,6 +1676,15 @@ class Planner:
         (None when it cannot be made)."""
         return list(self._native.ranks())
 
+    def finish_updates(self) -> None:
+        """Runs to the end what a planner from :meth:`with_changes` updates on use: the
+        costs and choices of the optimal methods (and of explanations) that the planner it
+        was derived from had computed, which a plan otherwise updates only as far as its
+        goal needs. :meth:`plan_many` on several threads does this first; call it before
+        planning many goals one by one (or from several threads) for even plan times. Any
+        other planner has nothing to run; the results never depend on it."""
+        self._native.finish_updates()
+
     def split(
         self,
         goal: GoalLike,
@@ -1712,7 +1721,9 @@ class Planner:
         methods and of explanations) is updated for the change instead of computed again,
         which costs what the change reaches rather than the whole FOON; its plans equal
         those of ``Planner(foon, new_kitchen, ...)`` (docs/METHODS.md, "Incremental
-        kitchens")."""
+        kitchens"). The ranks and choices of ``ids`` are updated at once; the optimal
+        methods' costs on use, as far as the goals planned need (:meth:`finish_updates`
+        runs them to the end)."""
         adding, removing = _as_kitchen(add), _as_kitchen(remove)
         new = object.__new__(Planner)
         new.level = self.level

@@ -2,284 +2,162 @@
 //! added, items removed) is prepared from the base's, touching only what the delta changes,
 //! with every result equal to a preparation from scratch ([`Prepared::with_delta`]).
 //!
-//! Ranks and each optimal objective's (cost, depth) are the least fixpoint of superior
-//! functions (a unit's value is above each of its needed inputs', and never decreases when
-//! one of them increases), so a change of the leaves (the kitchen, for the shopping costs
-//! the kitchen and the raw items) moves only the values that depend on it:
+//! What the base kitchen has computed is moved to the new kitchen by the pass of `relax.rs`
+//! (Ramalingam and Reps's algorithm: the objects whose value the change may raise are reset,
+//! then Knuth's algorithm runs from them and from the new leaves, lowering what it reaches):
 //!
-//! - the *affected* objects are the leaves that changed and every object whose choice (for
-//!   ranks: the first producer that achieves its rank) needs an affected object: every other
-//!   object keeps a tree that the change leaves intact, so its value can only decrease;
-//! - the affected objects are reset, seeded from their producers whose needed inputs are all
-//!   unaffected, and one pass of Knuth's algorithm in (value, depth) order runs from them and
-//!   from the new leaves, through the units of every object whose value it finalises, lowering
-//!   what it reaches (Ramalingam and Reps's algorithm for both kinds of change at once).
+//! - the ranks and the choices of `ids` at once, since nearly every query reads them;
+//! - each optimal objective's costs and choices on use, and only as far as the use needs: a
+//!   plan runs its objective's pass until its goal is final ([`Pending`]; the objects of its
+//!   tree are final then too), a later plan runs it further, and work that reads whole columns
+//!   (or many goals at once) runs it to the end. Adding an object that much of the FOON is
+//!   made from lowers the cost of all of it, so a pass to the end can cost a large share of a
+//!   preparation from scratch; a plan pays only for the objects cheaper than its goal.
 //!
-//! The choices follow from the final values alone (the lowest-index producer whose (cost,
-//! depth) is the object's, `docs/METHODS.md`), so they are the from-scratch ones, and every
-//! sum is formed as from scratch (the unit's weight, then its inputs in input order), so the
-//! costs are bit-identical. The pass costs O((A + L) log A) plus the needed and output slots
-//! of the units it reaches, for A affected and L lowered objects; copying the per-object
-//! vectors of the base is the only part linear in the FOON.
+//! The derived kitchen keeps its values as [`Layered`] columns over the base's, so it costs
+//! what the delta reaches in memory too.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 use std::sync::Arc;
 
-use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 
 use crate::error::{Error, Result};
 use crate::forward::Ranks;
 use crate::index::{Foon, NONE};
 use crate::kitchen::Kitchen;
-use crate::layered::{Editor, Layered};
+use crate::layered::Layered;
 use crate::model::ObjectSpec;
-use crate::prepare::{Objective, Optimum, Prepared};
-use crate::search::{better, lower, tie_depth};
-
-/// The per-object values one pass updates: (value, depth) and the choice of each object.
-trait Store {
-    fn get(&self, o: u32) -> (f64, u32);
-    fn choice(&self, o: u32) -> u32;
-    fn set(&mut self, o: u32, v: (f64, u32), choice: u32);
-}
-
-/// An optimum being updated: its cost, depth and choice columns.
-struct OptimumEdit {
-    cost: Editor<f64>,
-    depth: Editor<u32>,
-    choice: Editor<u32>,
-}
-
-impl OptimumEdit {
-    fn of(o: &Optimum) -> Self {
-        Self {
-            cost: o.cost.edit(),
-            depth: o.depth.edit(),
-            choice: o.choice.edit(),
-        }
-    }
-
-    fn finish(self) -> Optimum {
-        Optimum {
-            cost: self.cost.finish(),
-            choice: self.choice.finish(),
-            depth: self.depth.finish(),
-        }
-    }
-}
-
-impl Store for OptimumEdit {
-    #[inline]
-    fn get(&self, o: u32) -> (f64, u32) {
-        (self.cost.get(o), self.depth.get(o))
-    }
-    #[inline]
-    fn choice(&self, o: u32) -> u32 {
-        self.choice.get(o)
-    }
-    #[inline]
-    fn set(&mut self, o: u32, v: (f64, u32), choice: u32) {
-        self.cost.set(o, v.0);
-        self.depth.set(o, v.1);
-        self.choice.set(o, choice);
-    }
-}
-
-/// Ranks as values (depth 0; `NONE` is +infinity); no choice is kept.
-struct RankStore(Editor<u32>);
-
-impl Store for RankStore {
-    #[inline]
-    fn get(&self, o: u32) -> (f64, u32) {
-        match self.0.get(o) {
-            NONE => (f64::INFINITY, 0),
-            r => (f64::from(r), 0),
-        }
-    }
-    #[inline]
-    fn choice(&self, _: u32) -> u32 {
-        NONE
-    }
-    #[inline]
-    fn set(&mut self, o: u32, v: (f64, u32), _: u32) {
-        self.0
-            .set(o, if v.0.is_finite() { v.0 as u32 } else { NONE });
-    }
-}
-
-/// One objective's rules for a pass.
-struct Rules<'a> {
-    /// Whether an object is a leaf before and after the change.
-    was_leaf: &'a dyn Fn(u32) -> bool,
-    is_leaf: &'a dyn Fn(u32) -> bool,
-    /// The (value, depth) of a leaf.
-    leaf: (f64, u32),
-    /// A unit's (value, depth) from the current values of its needed inputs (all finite).
-    value: &'a dyn Fn(&dyn Store, u32) -> (f64, u32),
-    /// The choice of an object before the change (`NONE` for a leaf or an infinite one).
-    old_choice: &'a dyn Fn(&dyn Store, u32) -> u32,
-}
-
-/// Heap key: (value bits, depth, object); values are never negative, so their bits order as
-/// they do.
-type Key = Reverse<(u64, u32, u32)>;
+use crate::prepare::{Objective, Optimum, Prepared, Slot};
+use crate::relax::{Combine, Reached, Relax, Rules};
 
 /// A pass that reaches more than one object in `REACH_SHARE` (and more than `REACH_MIN`)
-/// stops: the part is then computed from scratch on first use, which costs less than an
-/// update of that size (a delta that removes an item much of the FOON is made from).
+/// stops: the part is then computed from scratch, which costs less than an update of that
+/// size (a delta that removes an item much of the FOON is made from).
 const REACH_SHARE: usize = 4;
 const REACH_MIN: usize = 1024;
 
-/// Updates `store` (the values before the change) to the values after it, the leaves that
-/// changed being among `flipped`. Returns the objects whose value or choice may have
-/// changed, or `None` when the change reaches too much of the FOON to be worth updating
-/// (see [`REACH_SHARE`]; `store` is then left half updated, to be dropped).
-fn pass(
-    foon: &Foon,
-    prep: &Prepared,
-    store: &mut dyn Store,
-    flipped: &[u32],
-    rules: &Rules<'_>,
-    limit: usize,
-) -> Option<Vec<u32>> {
-    // Per object: AFFECTED, DONE (final in this pass). Zeroed pages cost nothing until
-    // touched, so the marks cost what the pass reaches.
-    const AFFECTED: u8 = 1;
-    const DONE: u8 = 2;
-    let mut mark = vec![0u8; foon.object_count()];
-    let mut list: Vec<u32> = Vec::new();
-    for &o in flipped {
-        if (rules.was_leaf)(o) != (rules.is_leaf)(o) && mark[o as usize] & AFFECTED == 0 {
-            mark[o as usize] |= AFFECTED;
-            list.push(o);
-        }
-    }
-    // Every object whose choice needs an affected object, transitively (read before any
-    // value changes).
-    let mut i = 0;
-    while let Some(&x) = list.get(i) {
-        i += 1;
-        if list.len() > limit {
-            return None;
-        }
-        for &f in prep.needed_by(x) {
-            for &y in foon.outputs(f) {
-                if mark[y as usize] & AFFECTED == 0 && (rules.old_choice)(&*store, y) == f {
-                    mark[y as usize] |= AFFECTED;
-                    list.push(y);
-                }
-            }
-        }
-    }
-    for &y in &list {
-        store.set(y, (f64::INFINITY, 0), NONE);
-    }
-    let mut lowered: Vec<u32> = Vec::new();
-    let mut heap: BinaryHeap<Key> = BinaryHeap::new();
-    let available = |store: &dyn Store, mark: &[u8], f: u32| {
-        prep.needed(f).iter().all(|&x| {
-            let m = mark[x as usize];
-            store.get(x).0.is_finite() && (m & AFFECTED == 0 || m & DONE != 0)
-        })
-    };
-    let offer =
-        |store: &mut dyn Store, heap: &mut BinaryHeap<Key>, y: u32, f: u32, v: (f64, u32)| {
-            let old = store.get(y);
-            if better(v.0, v.1, f, old.0, old.1, store.choice(y)) {
-                if lower(v.0, v.1, old.0, old.1) {
-                    heap.push(Reverse((v.0.to_bits(), v.1, y)));
-                }
-                store.set(y, v, f);
-            }
-        };
-    for &y in &list {
-        if (rules.is_leaf)(y) {
-            store.set(y, rules.leaf, NONE);
-            heap.push(Reverse((rules.leaf.0.to_bits(), rules.leaf.1, y)));
-        } else if !prep.is_bare(y) {
-            for &f in foon.producers(y) {
-                if available(&*store, &mark, f) {
-                    let v = (rules.value)(&*store, f);
-                    if v.0 != f64::INFINITY {
-                        offer(store, &mut heap, y, f, v);
-                    }
-                }
-            }
-        }
-    }
-    while let Some(Reverse((bits, depth, o))) = heap.pop() {
-        let now = store.get(o);
-        if mark[o as usize] & DONE != 0 || (now.0.to_bits(), now.1) != (bits, depth) {
-            continue;
-        }
-        mark[o as usize] |= DONE;
-        if mark[o as usize] & AFFECTED == 0 {
-            lowered.push(o);
-            if lowered.len() > limit {
-                return None;
-            }
-        }
-        for &f in prep.needed_by(o) {
-            if !available(&*store, &mark, f) {
-                continue;
-            }
-            let v = (rules.value)(&*store, f);
-            if v.0 == f64::INFINITY {
-                continue;
-            }
-            for &y in foon.outputs(f) {
-                if (rules.is_leaf)(y) || prep.is_bare(y) || mark[y as usize] & DONE != 0 {
-                    continue;
-                }
-                offer(store, &mut heap, y, f, v);
-            }
-        }
-    }
-    for &y in &list {
-        if mark[y as usize] & DONE == 0 {
-            store.set(y, (f64::INFINITY, 0), NONE);
-        }
-    }
-    list.extend(lowered);
-    Some(list)
+/// The most objects a pass over `foon` may reach (see [`REACH_SHARE`]).
+fn reach_limit(foon: &Foon) -> usize {
+    REACH_MIN.max(foon.object_count() / REACH_SHARE)
 }
 
-/// The (cost, depth) of unit `f` weighing `w`: the weight, plus the costs of its needed
-/// inputs in input order, as Knuth's algorithm forms it from scratch.
-#[inline]
-fn unit_value(prep: &Prepared, store: &dyn Store, f: u32, w: f64) -> (f64, u32) {
-    let needed = prep.needed(f);
-    let mut c = w;
-    for &x in needed {
-        c += store.get(x).0;
-    }
-    (c, tie_depth(c, needed.iter().map(|&x| store.get(x))))
+/// An optimal objective's rules, over its optimum before the change.
+struct OptimumRules<'a> {
+    objective: Objective,
+    before: &'a Layered<Slot>,
+    /// The kitchen before the change, and the new kitchen's preparation.
+    was: &'a Layered<bool>,
+    prep: &'a Prepared,
+    foon: &'a Foon,
 }
 
-/// The rank a unit gives its outputs: one more than the largest rank of its needed inputs.
-#[inline]
-fn rank_value(prep: &Prepared, store: &dyn Store, f: u32) -> f64 {
-    let mut m = 0.0f64;
-    for &x in prep.needed(f) {
-        m = m.max(store.get(x).0);
+impl OptimumRules<'_> {
+    /// Whether `o` is a raw item, a leaf of the shopping costs.
+    #[inline]
+    fn raw_leaf(&self, o: u32) -> bool {
+        self.objective == Objective::Shopping && self.foon.producers(o).is_empty()
     }
-    m + 1.0
 }
 
-/// The choice of `ids` of every object in `objects`, from the ranks `rank` and the kitchen of
-/// `prep`: the first producer whose value is the object's rank (`NONE` for kitchen objects
-/// and objects that are not derivable), as `search::ids` computes it.
-fn ids_choice_of(foon: &Foon, prep: &Prepared, rank: &Layered<u32>, o: u32) -> u32 {
-    let r = rank.get(o);
-    if r == NONE || prep.in_kitchen(o) {
-        return NONE;
+impl Rules for OptimumRules<'_> {
+    const COMBINE: Combine = Combine::Sum;
+    const CHOICES: bool = true;
+
+    #[inline]
+    fn before(&self, o: u32) -> Slot {
+        self.before.get(o)
     }
+    #[inline]
+    fn old_choice(&self, o: u32) -> u32 {
+        self.before.get(o).choice
+    }
+    #[inline]
+    fn was_leaf(&self, o: u32) -> bool {
+        self.was.get(o) || self.raw_leaf(o)
+    }
+    #[inline]
+    fn is_leaf(&self, o: u32) -> bool {
+        self.prep.in_kitchen(o) || self.raw_leaf(o)
+    }
+    #[inline]
+    fn leaf(&self) -> (f64, u32) {
+        match self.objective {
+            Objective::Success | Objective::Units => (0.0, 0),
+            Objective::Inputs | Objective::Shopping => (1.0, 0),
+        }
+    }
+    #[inline]
+    fn weight(&self, f: u32) -> f64 {
+        match self.objective {
+            // `0.0 - ln r`, as from scratch (`search::optimal`): a rate of 1 weighs +0.
+            Objective::Success => 0.0 - self.prep.fu_rates()[f as usize].ln(),
+            Objective::Units => 1.0,
+            Objective::Inputs | Objective::Shopping => 0.0,
+        }
+    }
+}
+
+/// Ranks' rules, over the ranks before the change (kitchen objects rank 0).
+struct RankRules<'a> {
+    rank: &'a Ranks,
+    /// The choice of `ids` before the change, when computed.
+    ids: Option<&'a Layered<u32>>,
+    old: &'a Prepared,
+    prep: &'a Prepared,
+    foon: &'a Foon,
+}
+
+impl Rules for RankRules<'_> {
+    const COMBINE: Combine = Combine::Rank;
+    const CHOICES: bool = false;
+
+    #[inline]
+    fn before(&self, o: u32) -> Slot {
+        let r = self.rank.raw(o);
+        Slot {
+            cost: if r == NONE {
+                f64::INFINITY
+            } else {
+                f64::from(r)
+            },
+            choice: NONE,
+            depth: 0,
+        }
+    }
+    /// The first producer that achieves an object's rank: the choice of `ids`.
+    fn old_choice(&self, y: u32) -> u32 {
+        if let Some(c) = self.ids {
+            return c.get(y);
+        }
+        let ry = self.rank.raw(y);
+        if ry == NONE || self.old.in_kitchen(y) {
+            return NONE;
+        }
+        ids_choice_with(self.foon, self.old, |x| self.rank.raw(x), y, ry)
+    }
+    #[inline]
+    fn was_leaf(&self, o: u32) -> bool {
+        self.old.in_kitchen(o)
+    }
+    #[inline]
+    fn is_leaf(&self, o: u32) -> bool {
+        self.prep.in_kitchen(o)
+    }
+    fn leaf(&self) -> (f64, u32) {
+        (0.0, 0)
+    }
+    fn weight(&self, _: u32) -> f64 {
+        0.0
+    }
+}
+
+/// The first producer of `o` (of rank `r`) whose needed inputs' largest rank (by `rank`,
+/// `NONE` when not derivable) is `r - 1`: the choice of `ids` (`NONE` when none).
+fn ids_choice_with(foon: &Foon, prep: &Prepared, rank: impl Fn(u32) -> u32, o: u32, r: u32) -> u32 {
     let value = |f: u32| {
         let mut m = 0;
         for &x in prep.needed(f) {
-            let rx = if prep.in_kitchen(x) { 0 } else { rank.get(x) };
+            let rx = rank(x);
             if rx == NONE {
                 return NONE;
             }
@@ -294,22 +172,218 @@ fn ids_choice_of(foon: &Foon, prep: &Prepared, rank: &Layered<u32>, o: u32) -> u
         .unwrap_or(NONE)
 }
 
+/// The choice of `ids` of object `o`, from the ranks `rank` and the kitchen of `prep`: the
+/// first producer whose value is the object's rank (`NONE` for kitchen objects and objects
+/// that are not derivable), as `search::ids` computes it.
+fn ids_choice_of(foon: &Foon, prep: &Prepared, rank: &Layered<u32>, o: u32) -> u32 {
+    let r = rank.get(o);
+    if r == NONE || prep.in_kitchen(o) {
+        return NONE;
+    }
+    let of = |x: u32| if prep.in_kitchen(x) { 0 } else { rank.get(x) };
+    ids_choice_with(foon, prep, of, o, r)
+}
+
+/// The choice of `ids` after a change (`before`, the choice before it), for the ranks `rank`
+/// of the kitchen of `prep`, `touched` holding every object whose rank or kitchen flag may
+/// have changed. An object's choice is the first producer whose value (one more than the
+/// largest rank of its needed inputs) is its rank; it can change only when its rank changes
+/// (computed again) or when the value of one of its producers changes, that is a unit
+/// needing a touched object: the choice is computed again when that unit was the choice and
+/// no longer achieves the rank, and becomes that unit when it achieves the rank and comes
+/// first.
+fn delta_ids_choice(
+    foon: &Foon,
+    prep: &Prepared,
+    rank: &Layered<u32>,
+    before: &Layered<u32>,
+    touched: &[u32],
+) -> Layered<u32> {
+    let rank_of = |x: u32| if prep.in_kitchen(x) { 0 } else { rank.get(x) };
+    let value = |f: u32| {
+        let mut m = 0;
+        for &x in prep.needed(f) {
+            let rx = rank_of(x);
+            if rx == NONE {
+                return NONE;
+            }
+            m = m.max(rx);
+        }
+        m + 1
+    };
+    let again: FxHashSet<u32> = touched.iter().copied().collect();
+    let mut seen: FxHashSet<u32> = FxHashSet::default();
+    let mut recompute: Vec<u32> = touched.to_vec();
+    let mut first: Vec<(u32, u32)> = Vec::new();
+    for &x in touched {
+        for &f in prep.needed_by(x) {
+            if !seen.insert(f) {
+                continue;
+            }
+            let v = value(f);
+            for &y in foon.outputs(f) {
+                if again.contains(&y) {
+                    continue;
+                }
+                let r = rank.get(y);
+                if r == NONE || prep.in_kitchen(y) {
+                    continue;
+                }
+                let c = before.get(y);
+                if c == f && v != r {
+                    recompute.push(y);
+                } else if v == r && f < c {
+                    first.push((y, f));
+                }
+            }
+        }
+    }
+    let mut choice = before.edit();
+    for &(y, f) in &first {
+        if f < choice.get(y) {
+            choice.set(y, f);
+        }
+    }
+    // Last: a choice computed again wins over a unit found above.
+    for y in recompute {
+        choice.set(y, ids_choice_of(foon, prep, rank, y));
+    }
+    choice.finish()
+}
+
+/// The update of one optimal objective's costs and choices from a kitchen that computed them
+/// to a kitchen derived from it (by one delta or a chain of them), kept by the derived kitchen
+/// and run as far as its uses need ([`Prepared::optimum_at`]).
+pub(crate) struct Pending {
+    objective: Objective,
+    /// The optimum of the kitchen it is updated from, and that kitchen's flags.
+    before: Layered<Slot>,
+    was: Layered<bool>,
+    /// The objects whose kitchen flag may differ between the two kitchens.
+    flipped: Vec<u32>,
+    limit: usize,
+    /// The pass, once started.
+    relax: Option<Relax>,
+}
+
+impl Pending {
+    fn rules<'a>(
+        objective: Objective,
+        before: &'a Layered<Slot>,
+        was: &'a Layered<bool>,
+        foon: &'a Foon,
+        prep: &'a Prepared,
+    ) -> OptimumRules<'a> {
+        OptimumRules {
+            objective,
+            before,
+            was,
+            prep,
+            foon,
+        }
+    }
+
+    /// The update of `objective` from `from` (the kitchen a delta at `flipped` is applied
+    /// to): from its optimum when computed, else from where its own pending update starts
+    /// (the flipped objects of both deltas). `None` when `from` has neither.
+    pub(crate) fn derive(
+        from: &Prepared,
+        foon: &Foon,
+        objective: Objective,
+        flipped: &[u32],
+    ) -> Option<Self> {
+        let limit = reach_limit(foon);
+        if let Some(o) = from.computed_optimum(objective) {
+            return Some(Self {
+                objective,
+                before: o.slots.clone(),
+                was: from.kitchen_flags().clone(),
+                flipped: flipped.to_vec(),
+                limit,
+                relax: None,
+            });
+        }
+        from.with_pending(objective, |p| {
+            let p = p?;
+            let mut all: Vec<u32> = p.flipped.iter().chain(flipped).copied().collect();
+            all.sort_unstable();
+            all.dedup();
+            Some(Self {
+                objective,
+                before: p.before.clone(),
+                was: p.was.clone(),
+                flipped: all,
+                limit: p.limit.min(limit),
+                relax: None,
+            })
+        })
+    }
+
+    /// Runs the pass (started on first call) until `goal` is final, or to the end.
+    pub(crate) fn advance(
+        &mut self,
+        foon: &Foon,
+        prep: &Prepared,
+        goal: Option<u32>,
+        stop: &dyn Fn() -> Result<()>,
+    ) -> Result<Reached> {
+        let rules = Self::rules(self.objective, &self.before, &self.was, foon, prep);
+        let relax = match &mut self.relax {
+            Some(r) => r,
+            slot @ None => match Relax::start(foon, prep, &rules, &self.flipped, self.limit) {
+                Some(r) => slot.insert(r),
+                None => return Ok(Reached::TooFar),
+            },
+        };
+        relax.advance(foon, prep, &rules, goal, self.limit, stop)
+    }
+
+    /// The current value of `o` (final once the pass settled it).
+    pub(crate) fn slot(&self, o: u32) -> Slot {
+        self.relax
+            .as_ref()
+            .and_then(|r| r.changed(o))
+            .unwrap_or_else(|| self.before.get(o))
+    }
+
+    /// The optimum, once the pass has run to the end.
+    pub(crate) fn finish(self) -> Optimum {
+        let mut e = self.before.edit();
+        if let Some(r) = self.relax {
+            for (o, s) in r.changes() {
+                e.set(o, s);
+            }
+        }
+        Optimum { slots: e.finish() }
+    }
+
+    /// Whether the pass has started.
+    #[cfg(test)]
+    pub(crate) fn started(&self) -> bool {
+        self.relax.is_some()
+    }
+
+    pub(crate) fn heap_bytes(&self) -> usize {
+        4 * self.flipped.capacity() + self.relax.as_ref().map_or(0, Relax::heap_bytes)
+    }
+}
+
 impl Prepared {
     /// The kitchen of these inputs (`self`, the base kitchen's preparation) without the
     /// objects `removed` and with the objects `added` (object ids of `foon`, any order,
     /// repeats allowed; an id in both lists is added), prepared incrementally: equal in every
     /// result to [`Prepared::with_base`] on the same base with the new kitchen. What the base
     /// kitchen has computed (ranks, the choice of `ids`, each optimal objective's costs and
-    /// choices) is updated from it, touching only the objects the change reaches; what it
-    /// has not computed is computed on first use, as for a kitchen prepared from scratch.
-    /// The level is the base kitchen's.
+    /// choices) is updated from it, touching only the objects the change reaches (the
+    /// optimal objectives on use, as far as the use needs: see the module documentation);
+    /// what it has not computed is computed on first use, as for a kitchen prepared from
+    /// scratch. The level is the base kitchen's.
     pub fn with_delta(&self, foon: &Foon, added: &[u32], removed: &[u32]) -> Result<Prepared> {
-        let limit = REACH_MIN.max(foon.object_count() / REACH_SHARE);
-        self.with_delta_reaching(foon, added, removed, limit)
+        self.with_delta_reaching(foon, added, removed, reach_limit(foon))
     }
 
-    /// [`Prepared::with_delta`], a pass that reaches more than `limit` objects leaving its
-    /// part to be computed from scratch on first use.
+    /// [`Prepared::with_delta`], a pass of the ranks that reaches more than `limit` objects
+    /// leaving them to be computed from scratch on first use.
     fn with_delta_reaching(
         &self,
         foon: &Foon,
@@ -360,37 +434,25 @@ impl Prepared {
         // The new kitchen's flags and objects, on this base; what is computed is set below.
         let out = self.with_parts(in_kitchen.finish(), kitchen_objects);
         if flipped.is_empty() {
-            // Nothing changed: everything computed is the same.
+            // Nothing changed: everything computed is the same, and so is every update.
             let optima = Objective::ALL.map(|o| self.computed_optimum(o).cloned());
             out.set_computed(
                 self.computed_ranks().cloned(),
                 optima,
                 self.computed_ids_choice().cloned(),
             );
-            return Ok(out);
+        } else {
+            let (ranks, ids) =
+                crate::search::batch::in_pool(|| self.delta_ranks(foon, &out, &flipped, limit))?;
+            out.set_computed(ranks, Default::default(), ids);
         }
-        // The parts are independent: they are updated at once, on the core's pool.
-        let ((ranks, ids), optima) = crate::search::batch::in_pool(|| {
-            rayon::join(
-                || self.delta_ranks(foon, &out, &flipped, limit),
-                || {
-                    let mut optima: [Option<Optimum>; 4] = Default::default();
-                    let done: Vec<(usize, Optimum)> = Objective::ALL
-                        .par_iter()
-                        .enumerate()
-                        .filter_map(|(i, &o)| {
-                            self.delta_optimum(foon, &out, &flipped, o, limit)
-                                .map(|x| (i, x))
-                        })
-                        .collect();
-                    for (i, x) in done {
-                        optima[i] = Some(x);
-                    }
-                    optima
-                },
-            )
-        })?;
-        out.set_computed(ranks, optima, ids);
+        for objective in Objective::ALL {
+            if !out.has_optimum(objective)
+                && let Some(p) = Pending::derive(self, foon, objective, &flipped)
+            {
+                out.set_pending(objective, p);
+            }
+        }
         Ok(out)
     }
 
@@ -403,127 +465,45 @@ impl Prepared {
         flipped: &[u32],
         limit: usize,
     ) -> (Option<Ranks>, Option<Layered<u32>>) {
-        let old = self.kitchen_flags();
-        let was_kitchen = |o: u32| old.get(o);
-        let is_kitchen = |o: u32| new_prep.in_kitchen(o);
-        // Ranks, and from them the choice of `ids`.
-        let mut ranks = None;
-        let mut ids = None;
-        if let Some(r) = self.computed_ranks() {
-            let mut store = RankStore(r.layered().edit());
-            // The first producer that achieves an object's rank (before the change): the
-            // choice of `ids`, when computed.
-            let ids_before = self.computed_ids_choice();
-            let old_choice = |_: &dyn Store, y: u32| {
-                if let Some(c) = ids_before {
-                    return c.get(y);
-                }
-                let ry = r.raw(y);
-                if ry == NONE || old.get(y) {
-                    return NONE;
-                }
-                foon.producers(y)
-                    .iter()
-                    .copied()
-                    .find(|&f| {
-                        let mut m = 0;
-                        for &x in self.needed(f) {
-                            let rx = r.raw(x);
-                            if rx == NONE {
-                                return false;
-                            }
-                            m = m.max(rx);
-                        }
-                        m + 1 == ry
-                    })
-                    .unwrap_or(NONE)
-            };
-            let value = |s: &dyn Store, f: u32| (rank_value(new_prep, s, f), 0);
-            let rules = Rules {
-                was_leaf: &was_kitchen,
-                is_leaf: &is_kitchen,
-                leaf: (0.0, 0),
-                value: &value,
-                old_choice: &old_choice,
-            };
-            let Some(touched) = pass(foon, new_prep, &mut store, flipped, &rules, limit) else {
-                // Too much changes: both are computed on first use, from scratch.
-                return (None, None);
-            };
-            let rank = store.0.finish();
-            if let Some(c) = self.computed_ids_choice() {
-                let mut choice = c.edit();
-                let mut again: FxHashSet<u32> = touched.iter().copied().collect();
-                for &x in &touched {
-                    for &f in new_prep.needed_by(x) {
-                        again.extend(foon.outputs(f).iter().copied());
-                    }
-                }
-                for o in again {
-                    choice.set(o, ids_choice_of(foon, new_prep, &rank, o));
-                }
-                ids = Some(choice.finish());
-            }
-            ranks = Some(Ranks::from_layered(rank));
-        }
-        (ranks, ids)
-    }
-
-    /// The optimum of `objective` of `new_prep` (this kitchen changed at `flipped`), updated
-    /// from this kitchen's, when computed here.
-    fn delta_optimum(
-        &self,
-        foon: &Foon,
-        new_prep: &Prepared,
-        flipped: &[u32],
-        objective: Objective,
-        limit: usize,
-    ) -> Option<Optimum> {
-        let old = self.kitchen_flags();
-        let was_kitchen = |o: u32| old.get(o);
-        let is_kitchen = |o: u32| new_prep.in_kitchen(o);
-        let mut store = OptimumEdit::of(self.computed_optimum(objective)?);
-        let rates = self.fu_rates();
-        let success =
-            |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0 - rates[f as usize].ln());
-        let units = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 1.0);
-        let inputs = |s: &dyn Store, f: u32| unit_value(new_prep, s, f, 0.0);
-        let raw = |o: u32| foon.producers(o).is_empty();
-        let was_shop = |o: u32| old.get(o) || raw(o);
-        let is_shop = |o: u32| new_prep.in_kitchen(o) || raw(o);
-        let old_choice = |s: &dyn Store, y: u32| s.choice(y);
-        let rules = match objective {
-            Objective::Success => Rules {
-                was_leaf: &was_kitchen,
-                is_leaf: &is_kitchen,
-                leaf: (0.0, 0),
-                value: &success,
-                old_choice: &old_choice,
-            },
-            Objective::Units => Rules {
-                was_leaf: &was_kitchen,
-                is_leaf: &is_kitchen,
-                leaf: (0.0, 0),
-                value: &units,
-                old_choice: &old_choice,
-            },
-            Objective::Inputs => Rules {
-                was_leaf: &was_kitchen,
-                is_leaf: &is_kitchen,
-                leaf: (1.0, 0),
-                value: &inputs,
-                old_choice: &old_choice,
-            },
-            Objective::Shopping => Rules {
-                was_leaf: &was_shop,
-                is_leaf: &is_shop,
-                leaf: (1.0, 0),
-                value: &inputs,
-                old_choice: &old_choice,
-            },
+        let Some(r) = self.computed_ranks() else {
+            return (None, None);
         };
-        pass(foon, new_prep, &mut store, flipped, &rules, limit)?;
-        Some(store.finish())
+        let rules = RankRules {
+            rank: r,
+            ids: self.computed_ids_choice(),
+            old: self,
+            prep: new_prep,
+            foon,
+        };
+        let never = || Ok(());
+        let Some(mut relax) = Relax::start(foon, new_prep, &rules, flipped, limit) else {
+            // Too much changes: both are computed on first use, from scratch.
+            return (None, None);
+        };
+        if !matches!(
+            relax.advance(foon, new_prep, &rules, None, limit, &never),
+            Ok(Reached::End)
+        ) {
+            return (None, None);
+        }
+        let mut rank = r.layered().edit();
+        let mut touched = Vec::new();
+        for (o, s) in relax.changes() {
+            rank.set(
+                o,
+                if s.cost.is_finite() {
+                    s.cost as u32
+                } else {
+                    NONE
+                },
+            );
+            touched.push(o);
+        }
+        let rank = rank.finish();
+        let ids = self
+            .computed_ids_choice()
+            .map(|c| delta_ids_choice(foon, new_prep, &rank, c, &touched));
+        (Some(Ranks::from_layered(rank)), ids)
     }
 
     /// As [`Prepared::with_delta`], with the new kitchen given whole (object ids of `foon`,
@@ -593,10 +573,9 @@ mod tests {
     use std::fmt::Write as _;
 
     use crate::index::Foon;
-    use crate::layered::Layered;
     use crate::model::MotionRates;
     use crate::parse::{ParseOptions, parse_foon};
-    use crate::prepare::{Objective, Prepared};
+    use crate::prepare::{Objective, Optimum, Prepared};
     use crate::search::{Context, Method, Query};
 
     /// A small xorshift generator (the tests are seeded, so every failure repeats).
@@ -662,15 +641,26 @@ mod tests {
         }
     }
 
-    /// Every component computed on `inc` equals the one computed from scratch on `fresh`, bit
-    /// for bit, and `inc` has computed exactly what `base` had (with `all`; else what it has
-    /// computed is among what `base` had: a pass that reached too far left its part).
-    fn assert_same(foon: &Foon, base: &Prepared, inc: &Prepared, fresh: &Prepared, all: bool) {
+    /// Whether `prep` has the optimum of `objective`, computed or pending.
+    fn has(prep: &Prepared, objective: Objective) -> bool {
+        prep.has_optimum(objective) || prep.has_pending(objective)
+    }
+
+    /// Every component computed on `inc` (its pending updates run to the end first) equals
+    /// the one computed from scratch on `fresh`, bit for bit, and `inc` has every optimum
+    /// `had` says (`None`: passes limited to a few objects may have left theirs, to be
+    /// computed from scratch on use), the ranks and choices of `ids` when `base` has them.
+    fn assert_same(
+        foon: &Foon,
+        base: &Prepared,
+        inc: &Prepared,
+        fresh: &Prepared,
+        had: Option<[bool; 4]>,
+    ) {
+        inc.finish_all_pending(foon, &|| Ok(())).unwrap();
         let parts = |a: bool, b: bool| {
-            if all {
-                assert_eq!(a, b);
-            } else {
-                assert!(!a || b);
+            if had.is_some() {
+                assert!(a || !b);
             }
         };
         assert_eq!(inc.kitchen_flags(), fresh.kitchen_flags());
@@ -694,17 +684,23 @@ mod tests {
                 None => assert!(c.iter().all(|f| f == crate::NONE)),
             }
         }
-        for objective in Objective::ALL {
+        for (i, objective) in Objective::ALL.into_iter().enumerate() {
+            assert!(!inc.has_pending(objective));
             let got = inc.computed_optimum(objective);
-            parts(got.is_some(), base.computed_optimum(objective).is_some());
+            if let Some(had) = had {
+                assert!(got.is_some() || !had[i], "{objective:?}");
+            }
             let Some(got) = got else { continue };
             let ctx = Context::with(foon, fresh).unwrap();
             crate::search::compute_optimum(&ctx, objective).unwrap();
             let want = fresh.computed_optimum(objective).unwrap();
-            let bits = |v: &Layered<f64>| v.iter().map(f64::to_bits).collect::<Vec<_>>();
-            assert_eq!(bits(&got.cost), bits(&want.cost), "{objective:?} costs");
-            assert_eq!(got.choice, want.choice, "{objective:?} choices");
-            assert_eq!(got.depth, want.depth, "{objective:?} depths");
+            let bits = |o: &Optimum| {
+                o.slots
+                    .iter()
+                    .map(|s| (s.cost.to_bits(), s.choice, s.depth))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(got), bits(want), "{objective:?}");
         }
     }
 
@@ -721,13 +717,45 @@ mod tests {
         new
     }
 
+    const METHODS: [Method; 4] = [
+        Method::Ids,
+        Method::OptimalUnits,
+        Method::OptimalInputs,
+        Method::OptimalSuccess,
+    ];
+
+    /// Plans of `goals` (each with a method of [`METHODS`], in turn) read from `inc` (through
+    /// its pending updates, run goal by goal) equal plans from scratch on `fresh`: the units,
+    /// the cost and the explanation of a failure.
+    fn plans_agree(foon: &Foon, inc: &Prepared, fresh: &Prepared, goals: &[u32]) {
+        let (a, b) = (
+            Context::with(foon, inc).unwrap(),
+            Context::with(foon, fresh).unwrap(),
+        );
+        for (i, &o) in goals.iter().enumerate() {
+            let q = Query {
+                method: METHODS[i % METHODS.len()],
+                ..Query::default()
+            };
+            let (x, y) = (a.plan(o, q).unwrap(), b.plan(o, q).unwrap());
+            assert_eq!(
+                (x.units, x.solved, x.cost.map(f64::to_bits), x.explanation),
+                (y.units, y.solved, y.cost.map(f64::to_bits), y.explanation),
+                "goal {o} {:?}",
+                q.method
+            );
+        }
+    }
+
     /// Random FOONs, kitchens and deltas (additions, removals, both, an id in both lists,
-    /// repeats): the incremental preparation equals the one from scratch in every component
-    /// the base had computed, and plans from it equal plans from scratch.
+    /// repeats): plans read from the incremental preparation while its updates have run only
+    /// as far as the goals so far needed equal plans from scratch; a delta of that kitchen
+    /// (derived from updates part run) does too; every component, once run to the end, equals
+    /// the one from scratch.
     #[test]
     fn deltas_give_the_preparation_from_scratch() {
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
-        let mut changed = 0;
+        let (mut changed, mut part_run) = (0, 0);
         for round in 0..600 {
             let foon = random_foon(&mut rng);
             let n = foon.object_count();
@@ -743,6 +771,7 @@ mod tests {
                 15
             };
             compute(&foon, &base, parts);
+            let had = Objective::ALL.map(|o| base.has_optimum(o));
             let pick = |rng: &mut Rng| -> Vec<u32> {
                 (0..rng.below(4)).map(|_| rng.below(n) as u32).collect()
             };
@@ -760,32 +789,116 @@ mod tests {
             let new = changed_kitchen(&kitchen, &added, &removed);
             changed += usize::from(new != kitchen);
             let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
-            assert_same(&foon, &base, &inc, &fresh, limit == usize::MAX);
-            // A delta of the derived kitchen: its changes are layered on the first's.
+            // Goals read through the pending updates: a few, or every object in a random
+            // order.
+            let mut goals: Vec<u32> = if round % 2 == 0 {
+                (0..rng.below(4)).map(|_| rng.below(n) as u32).collect()
+            } else {
+                (0..n as u32).collect()
+            };
+            for i in (1..goals.len()).rev() {
+                goals.swap(i, rng.below(i + 1));
+            }
+            plans_agree(&foon, &inc, &fresh, &goals);
+            part_run += usize::from(
+                Objective::ALL
+                    .into_iter()
+                    .any(|o| inc.pending_started(o) && inc.has_pending(o)),
+            );
+            // A delta of the derived kitchen, its updates part run: its changes are layered on
+            // the first's, its updates start where the first's do.
             let (added2, removed2) = (pick(&mut rng), pick(&mut rng));
             let inc2 = inc
                 .with_delta_reaching(&foon, &added2, &removed2, limit)
                 .unwrap();
             let new2 = changed_kitchen(&new, &added2, &removed2);
             let fresh2 = Prepared::with_base(&foon, base.base().clone(), &new2).unwrap();
-            assert_same(&foon, &inc, &inc2, &fresh2, limit == usize::MAX);
+            let had2 = Objective::ALL.map(|o| has(&inc, o));
+            let exact = limit == usize::MAX;
+            assert_same(&foon, &base, &inc, &fresh, exact.then_some(had));
+            assert_same(&foon, &inc, &inc2, &fresh2, exact.then_some(had2));
             // Plans read from either are the same (what is not computed is computed now).
-            let (a, b) = (
-                Context::with(&foon, &inc).unwrap(),
-                Context::with(&foon, &fresh).unwrap(),
-            );
+            let all: Vec<u32> = (0..n as u32).collect();
+            plans_agree(&foon, &inc, &fresh, &all);
+            plans_agree(&foon, &inc2, &fresh2, &all);
+        }
+        assert!(changed > 400, "only {changed} deltas changed the kitchen");
+        assert!(part_run > 30, "only {part_run} updates were read part run");
+    }
+
+    /// Threads planning at once on one kitchen whose updates are pending (each plan runs the
+    /// update a little further under its lock) get the plans from scratch.
+    #[test]
+    fn threads_share_a_pending_update() {
+        let mut rng = Rng(0x9e37_79b9);
+        for _ in 0..40 {
+            let foon = random_foon(&mut rng);
+            let n = foon.object_count();
+            let kitchen: Vec<u32> = (0..n as u32).filter(|_| rng.below(3) == 0).collect();
+            let rates = MotionRates::from_pairs((0..4).map(|m| (format!("m{m}"), 0.5))).unwrap();
+            let base = Prepared::with_objects(&foon, &kitchen, &[], Some(&rates), None).unwrap();
+            compute(&foon, &base, 15);
+            let added: Vec<u32> = (0..3).map(|_| rng.below(n) as u32).collect();
+            let inc = base.with_delta(&foon, &added, &[]).unwrap();
+            let new = changed_kitchen(&kitchen, &added, &[]);
+            let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
+            let all: Vec<u32> = (0..n as u32).collect();
+            std::thread::scope(|s| {
+                for t in 0..4 {
+                    let mut goals = all.clone();
+                    goals.rotate_left(t * n / 4);
+                    let (foon, inc, fresh) = (&foon, &inc, &fresh);
+                    s.spawn(move || plans_agree(foon, inc, fresh, &goals));
+                }
+            });
+        }
+    }
+
+    /// Plans cancelled while they run an update (the update stops between two objects) and
+    /// asked again give the plans from scratch: a stopped update goes on where it stopped.
+    #[test]
+    fn cancelled_updates_go_on() {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        let mut rng = Rng(0x51_7cc1_b727_220a);
+        let mut cancelled = 0;
+        for _ in 0..200 {
+            let foon = random_foon(&mut rng);
+            let n = foon.object_count();
+            let kitchen: Vec<u32> = (0..n as u32).filter(|_| rng.below(3) == 0).collect();
+            let rates = MotionRates::from_pairs((0..4).map(|m| (format!("m{m}"), 0.9))).unwrap();
+            let base = Prepared::with_objects(&foon, &kitchen, &[], Some(&rates), None).unwrap();
+            compute(&foon, &base, 15);
+            let added: Vec<u32> = (0..2).map(|_| rng.below(n) as u32).collect();
+            let removed: Vec<u32> = (0..2).map(|_| rng.below(n) as u32).collect();
+            let inc = base.with_delta(&foon, &added, &removed).unwrap();
+            let new = changed_kitchen(&kitchen, &added, &removed);
+            let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
+            // Every third look at the callback cancels.
+            let calls = AtomicU64::new(rng.below(3) as u64);
+            let cancel = || calls.fetch_add(1, Ordering::Relaxed) % 3 == 0;
+            let a = Context::with(&foon, &inc).unwrap().with_cancel(&cancel);
+            let b = Context::with(&foon, &fresh).unwrap();
             for o in 0..n as u32 {
-                for method in [Method::Ids, Method::OptimalInputs, Method::OptimalSuccess] {
+                for method in METHODS {
                     let q = Query {
                         method,
                         ..Query::default()
                     };
-                    let (x, y) = (a.plan(o, q).unwrap(), b.plan(o, q).unwrap());
-                    assert_eq!((x.units, x.solved), (y.units, y.solved));
+                    let x = loop {
+                        match a.plan(o, q) {
+                            Err(crate::Error::Cancelled) => cancelled += 1,
+                            r => break r.unwrap(),
+                        }
+                    };
+                    let y = b.plan(o, q).unwrap();
+                    assert_eq!(
+                        (x.units, x.solved, x.cost.map(f64::to_bits)),
+                        (y.units, y.solved, y.cost.map(f64::to_bits))
+                    );
                 }
             }
         }
-        assert!(changed > 400, "only {changed} deltas changed the kitchen");
+        assert!(cancelled > 100, "only {cancelled} plans were cancelled");
     }
 
     /// An id out of range is an error; an empty delta keeps everything.

@@ -35,6 +35,7 @@ pub mod cache;
 mod incremental;
 mod layered;
 pub mod multi;
+mod relax;
 pub use prepare::PreparedBase;
 
 pub use error::{Error, InputKind, Location, Result, Warning, WarningKind};

@@ -5,7 +5,7 @@
 //! use: each optimal objective's costs and choices over the whole FOON, the cheapest shopping
 //! costs of failure explanations, the choice of `ids`.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -13,9 +13,11 @@ use crate::error::{Error, Result};
 use crate::forward;
 
 pub use crate::forward::Ranks;
+use crate::incremental::Pending;
 use crate::index::{Csr, Foon, NONE};
-use crate::layered::Layered;
+use crate::layered::{Layered, Value};
 use crate::model::{MotionRates, ObjectSpec, check_rate};
+use crate::relax::Reached;
 
 /// Planning inputs prepared for one FOON: the kitchen matched to objects, on a
 /// [`PreparedBase`] (the container rule applied, the motion rate of every FU), shared with
@@ -34,6 +36,10 @@ pub struct Prepared {
     ranks: OnceLock<Ranks>,
     /// Per [`Objective`]: final costs and choices from the kitchen over the whole FOON.
     optima: [OnceLock<Optimum>; Objective::COUNT],
+    /// Per [`Objective`], for a kitchen derived from another by a delta: the update of the
+    /// other's optimum, run as far as the plans so far needed (`incremental.rs`); moved to
+    /// `optima` once it has run to the end.
+    pending: [Mutex<Option<Box<Pending>>>; Objective::COUNT],
     /// `ids`: the first producer of each object that achieves its rank (`NONE` when none).
     ids_choice: OnceLock<Layered<u32>>,
     /// The identity level the kitchen was matched at (1, 2 or 3; results report it).
@@ -112,43 +118,106 @@ impl Objective {
     ];
 }
 
+/// One object's entry in an [`Optimum`]: its final cost, choice and tie key side by side
+/// (one cache line read per look-up on a FOON far larger than the caches).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Slot {
+    pub(crate) cost: f64,
+    pub(crate) choice: u32,
+    /// The tie key (`search::optimal::tie_depth`; 0 for an object that is not final).
+    pub(crate) depth: u32,
+}
+
+impl Value for Slot {
+    #[inline]
+    fn same(self, other: Self) -> bool {
+        self.cost.to_bits() == other.cost.to_bits()
+            && self.choice == other.choice
+            && self.depth == other.depth
+    }
+}
+
 /// Final cost and choice of every object for one [`Objective`] (`f64::INFINITY` and `NONE`
 /// for an object that is not finalised).
-/// Kept as [`Layered`] columns, so that a kitchen derived from another by a delta shares them.
+/// Kept as a [`Layered`] column, so that a kitchen derived from another by a delta shares it.
 #[derive(Clone)]
 pub(crate) struct Optimum {
-    pub(crate) cost: Layered<f64>,
-    pub(crate) choice: Layered<u32>,
-    /// The tie key of every final object (`search::optimal::tie_depth`; 0 otherwise).
-    pub(crate) depth: Layered<u32>,
+    pub(crate) slots: Layered<Slot>,
 }
 
 impl Optimum {
-    pub(crate) fn from_vecs(cost: Vec<f64>, choice: Vec<u32>, depth: Vec<u32>) -> Self {
+    pub(crate) fn from_slots(slots: Vec<Slot>) -> Self {
         Self {
-            cost: Layered::from_vec(cost),
-            choice: Layered::from_vec(choice),
-            depth: Layered::from_vec(depth),
+            slots: Layered::from_vec(slots),
         }
     }
 
     #[inline]
     pub(crate) fn cost(&self, o: u32) -> f64 {
-        self.cost.get(o)
+        self.slots.get(o).cost
     }
 
     #[inline]
     pub(crate) fn choice(&self, o: u32) -> u32 {
-        self.choice.get(o)
+        self.slots.get(o).choice
     }
 
     #[inline]
     pub(crate) fn depth(&self, o: u32) -> u32 {
-        self.depth.get(o)
+        self.slots.get(o).depth
     }
 
     fn heap_bytes(&self, own: bool) -> usize {
-        self.cost.heap_bytes(own) + self.choice.heap_bytes(own) + self.depth.heap_bytes(own)
+        self.slots.heap_bytes(own)
+    }
+}
+
+/// An optimum as far as one goal needs it: the whole column, or a kitchen's pending update
+/// of it ([`Prepared::optimum_at`]) run until the goal and every object of its tree are final
+/// (reading other objects gives values that may not be).
+pub(crate) enum OptimumAt<'a> {
+    Whole(&'a Optimum),
+    Partial(MutexGuard<'a, Option<Box<Pending>>>),
+}
+
+impl OptimumAt<'_> {
+    fn slot(&self, o: u32) -> Slot {
+        match self {
+            Self::Whole(k) => k.slots.get(o),
+            Self::Partial(p) => match p.as_deref() {
+                Some(p) => p.slot(o),
+                // `optimum_at` returns a guard on a pending update only.
+                None => Slot {
+                    cost: f64::INFINITY,
+                    choice: NONE,
+                    depth: 0,
+                },
+            },
+        }
+    }
+
+    #[inline]
+    pub(crate) fn cost(&self, o: u32) -> f64 {
+        self.slot(o).cost
+    }
+
+    #[inline]
+    pub(crate) fn choice(&self, o: u32) -> u32 {
+        self.slot(o).choice
+    }
+}
+
+/// Locks a pending update; one left half-done by a panicking thread is dropped (the optimum
+/// is then computed from scratch on use).
+fn lock(cell: &Mutex<Option<Box<Pending>>>) -> MutexGuard<'_, Option<Box<Pending>>> {
+    match cell.lock() {
+        Ok(g) => g,
+        Err(poisoned) => {
+            let mut g = poisoned.into_inner();
+            *g = None;
+            cell.clear_poison();
+            g
+        }
     }
 }
 
@@ -223,6 +292,7 @@ impl Prepared {
             kitchen_objects,
             ranks: OnceLock::new(),
             optima: Default::default(),
+            pending: Default::default(),
             ids_choice: OnceLock::new(),
             level: 3,
             derived: false,
@@ -256,6 +326,11 @@ impl Prepared {
         }
         for o in self.optima.iter().filter_map(OnceLock::get) {
             b += o.heap_bytes(own);
+        }
+        for cell in &self.pending {
+            if let Some(p) = lock(cell).as_deref() {
+                b += p.heap_bytes();
+            }
         }
         if let Some(c) = self.ids_choice.get() {
             b += c.heap_bytes(own);
@@ -353,18 +428,158 @@ impl Prepared {
         self.base.all_rated
     }
 
-    /// The optimum of `objective`, computed by `init` on first use (see [`once`]).
+    /// The optimum of `objective`: its pending update run to the end when there is one
+    /// (`foon` is the FOON these inputs were prepared for; `stop` is called now and then, and
+    /// its error stops the update where it is), else computed by `init` on first use (see
+    /// [`once`]).
     pub(crate) fn optimum(
         &self,
+        foon: &Foon,
         objective: Objective,
+        stop: &dyn Fn() -> Result<()>,
         init: impl FnOnce() -> Result<Optimum>,
     ) -> Result<&Optimum> {
-        once(&self.optima[objective as usize], init)
+        let cell = &self.optima[objective as usize];
+        if let Some(o) = cell.get() {
+            return Ok(o);
+        }
+        if let Some(o) = self.finish_pending(foon, objective, stop)? {
+            return Ok(o);
+        }
+        once(cell, init)
+    }
+
+    /// The optimum of `objective` as far as `goal` needs it: the whole column when it is
+    /// computed, else its pending update run until `goal` and every object of its tree are
+    /// final (the guard held while the tree is read). `None` when there is neither (or the
+    /// update reached too far and was dropped): the caller computes it ([`Prepared::optimum`]).
+    pub(crate) fn optimum_at(
+        &self,
+        foon: &Foon,
+        objective: Objective,
+        goal: u32,
+        stop: &dyn Fn() -> Result<()>,
+    ) -> Result<Option<OptimumAt<'_>>> {
+        let cell = &self.optima[objective as usize];
+        if let Some(o) = cell.get() {
+            return Ok(Some(OptimumAt::Whole(o)));
+        }
+        let mut g = lock(&self.pending[objective as usize]);
+        let Some(p) = g.as_deref_mut() else {
+            // None, or run to the end by another thread.
+            return Ok(cell.get().map(OptimumAt::Whole));
+        };
+        match p.advance(foon, self, Some(goal), stop)? {
+            Reached::Settled => Ok(Some(OptimumAt::Partial(g))),
+            Reached::End => {
+                let o = g.take().map(|p| p.finish());
+                Ok(o.map(|o| OptimumAt::Whole(cell.get_or_init(|| o))))
+            }
+            Reached::TooFar => {
+                *g = None;
+                Ok(None)
+            }
+        }
+    }
+
+    /// Runs the pending update of `objective` to the end and keeps its optimum; `None` when
+    /// there is none (or it reached too far and was dropped).
+    fn finish_pending(
+        &self,
+        foon: &Foon,
+        objective: Objective,
+        stop: &dyn Fn() -> Result<()>,
+    ) -> Result<Option<&Optimum>> {
+        let cell = &self.optima[objective as usize];
+        let mut g = lock(&self.pending[objective as usize]);
+        let Some(p) = g.as_deref_mut() else {
+            return Ok(cell.get());
+        };
+        match p.advance(foon, self, None, stop)? {
+            Reached::End => {
+                let o = g.take().map(|p| p.finish());
+                // Kept before the lock is released: a thread that finds no pending update
+                // then finds the optimum.
+                Ok(o.map(|o| cell.get_or_init(|| o)))
+            }
+            Reached::Settled | Reached::TooFar => {
+                *g = None;
+                Ok(None)
+            }
+        }
+    }
+
+    /// Runs to the end the updates a kitchen derived by a delta ([`Prepared::with_delta`])
+    /// keeps pending: the optimal objectives the kitchen it was derived from had computed,
+    /// which plans otherwise update only as far as their goals need. Plans of many goals at
+    /// once do this first; a caller that will plan many goals one by one, from several
+    /// threads, or wants the later plans' times even, can do it once. `cancel` is called now
+    /// and then; once it answers true the updates stop where they are (to go on later) and
+    /// [`Error::Cancelled`] is returned.
+    pub fn finish_updates(&self, foon: &Foon, cancel: &(dyn Fn() -> bool + Sync)) -> Result<()> {
+        self.check_foon(foon)?;
+        self.finish_all_pending(foon, &|| {
+            if cancel() {
+                Err(Error::Cancelled)
+            } else {
+                Ok(())
+            }
+        })
+    }
+
+    /// Runs every pending update to the end, at once on the core's pool (for work that will
+    /// read many goals' trees: a batch of plans).
+    pub(crate) fn finish_all_pending(
+        &self,
+        foon: &Foon,
+        stop: &(dyn Fn() -> Result<()> + Sync),
+    ) -> Result<()> {
+        use rayon::prelude::*;
+        let todo: Vec<Objective> = Objective::ALL
+            .into_iter()
+            .filter(|&o| self.has_pending(o))
+            .collect();
+        match todo.len() {
+            0 => Ok(()),
+            1 => self.finish_pending(foon, todo[0], stop).map(|_| ()),
+            _ => crate::search::batch::in_pool(|| {
+                todo.par_iter()
+                    .try_for_each(|&o| self.finish_pending(foon, o, stop).map(|_| ()))
+            })?,
+        }
     }
 
     /// Whether the optimum of `objective` is computed.
     pub(crate) fn has_optimum(&self, objective: Objective) -> bool {
         self.optima[objective as usize].get().is_some()
+    }
+
+    /// Whether the optimum of `objective` has a pending update.
+    pub(crate) fn has_pending(&self, objective: Objective) -> bool {
+        lock(&self.pending[objective as usize]).is_some()
+    }
+
+    /// Whether the pending update of `objective` has started (and not run to the end).
+    #[cfg(test)]
+    pub(crate) fn pending_started(&self, objective: Objective) -> bool {
+        lock(&self.pending[objective as usize])
+            .as_deref()
+            .is_some_and(Pending::started)
+    }
+
+    /// Sets the pending update of `objective` (a kitchen just derived, `incremental.rs`).
+    pub(crate) fn set_pending(&self, objective: Objective, p: Pending) {
+        *lock(&self.pending[objective as usize]) = Some(Box::new(p));
+    }
+
+    /// A copy of the pending update of `objective`'s parts, to derive another kitchen from
+    /// (see [`Pending::derive`]).
+    pub(crate) fn with_pending<T>(
+        &self,
+        objective: Objective,
+        f: impl FnOnce(Option<&Pending>) -> T,
+    ) -> T {
+        f(lock(&self.pending[objective as usize]).as_deref())
     }
 
     /// The choice of `ids` for every object, computed by `init` on first use.
@@ -411,6 +626,7 @@ impl Prepared {
             kitchen_objects,
             ranks: OnceLock::new(),
             optima: Default::default(),
+            pending: Default::default(),
             ids_choice: OnceLock::new(),
             level: self.level,
             kbest: crate::search::kbest::AncestryCache::default(),

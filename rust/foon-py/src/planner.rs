@@ -150,6 +150,13 @@ impl PyPlanner {
         })
     }
 
+    /// Runs to the end the updates a planner from `with_changes` keeps pending (see
+    /// `foon_core::Prepared::finish_updates`).
+    fn finish_updates(&self, py: Python<'_>) -> PyResult<()> {
+        let (foon, prep) = (&*self.foon, &*self.prep);
+        enter(py, |cancel| prep.finish_updates(foon, cancel))
+    }
+
     /// Object ids of the kitchen items found in the FOON, in id order.
     fn kitchen_objects(&self) -> PyResult<Vec<u32>> {
         let ctx = Context::with(&self.foon, &self.prep).map_err(PyFoonErr)?;

@@ -530,6 +530,9 @@ impl WaveKitchen {
                     Error::Invalid("a kitchen given by its items has no base".into())
                 })?;
                 let p = from.with_kitchen_changes(foon, &d.add, &d.remove, || entry.kitchen())?;
+                // Its rows read many trees: each update the base computed is run to the end
+                // at once, not goal by goal under its lock.
+                p.finish_all_pending(foon, &|| Ok(()))?;
                 Ok(cache.insert(*key, p))
             }
         }

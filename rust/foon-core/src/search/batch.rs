@@ -213,8 +213,10 @@ pub fn plan_batch(
             })
             .collect();
     }
-    // Shared by every search: computed once, before the workers start.
+    // Shared by every search: computed once, before the workers start (the updates of a
+    // kitchen derived by a delta run to the end, not goal by goal under their locks).
     let _ = ctx.ranks();
+    prep.finish_all_pending(foon, &|| ctx.check_stop())?;
     let slots: Vec<OnceLock<Result<Plan>>> = goals.iter().map(|_| OnceLock::new()).collect();
     let next = AtomicUsize::new(0);
     // The index of the first goal that failed: goals after it are not started.

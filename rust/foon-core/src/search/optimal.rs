@@ -18,16 +18,16 @@ use super::scratch::IdMap;
 use super::{Context, Explanation, Method, Plan, Query, tree};
 use crate::error::Result;
 use crate::index::NONE;
-use crate::prepare::{Objective, Optimum};
+use crate::prepare::{Objective, Optimum, OptimumAt, Slot};
 
 /// An entry of the heap of Knuth's algorithm: a min-heap on (cost, depth, object id), the
 /// depth being the tie key of [`tie_depth`] (0 for the searches that do not use it). The
 /// searches built on it (k best, fewest distinct units, the robot/human split) share it.
 #[derive(PartialEq)]
-pub(super) struct Entry {
-    pub(super) cost: f64,
-    pub(super) depth: u32,
-    pub(super) obj: u32,
+pub(crate) struct Entry {
+    pub(crate) cost: f64,
+    pub(crate) depth: u32,
+    pub(crate) obj: u32,
 }
 
 impl Eq for Entry {}
@@ -280,12 +280,12 @@ pub(crate) fn knuth_all(
     const FIXED: u32 = 2;
     const STATE: u32 = 3;
     #[derive(Clone, Copy)]
-    struct Slot {
+    struct Work {
         cost: f64,
         choice: u32,
         tag: u32,
     }
-    impl Slot {
+    impl Work {
         #[inline]
         fn depth(self) -> u32 {
             self.tag >> 2
@@ -298,7 +298,7 @@ pub(crate) fn knuth_all(
     let foon = ctx.foon;
     let n = foon.object_count();
     let mut slots = vec![
-        Slot {
+        Work {
             cost: f64::INFINITY,
             choice: NONE,
             tag: OPEN,
@@ -321,7 +321,7 @@ pub(crate) fn knuth_all(
         .map(|f| ctx.needed(f).len() as u32)
         .collect();
     let mut queue = RadixQueue::new();
-    let fire = |f: u32, slots: &mut [Slot], queue: &mut RadixQueue| {
+    let fire = |f: u32, slots: &mut [Work], queue: &mut RadixQueue| {
         let mut c = weight(f);
         for &x in ctx.needed(f) {
             c += slots[x as usize].cost;
@@ -409,28 +409,36 @@ pub(crate) fn knuth_all(
             }
         }
     }
-    let mut cost = Vec::with_capacity(n);
-    let mut choice = Vec::with_capacity(n);
-    let mut depth = Vec::with_capacity(n);
-    for s in &slots {
-        if s.state() == DONE {
-            cost.push(s.cost);
-            choice.push(s.choice);
-            depth.push(s.depth());
-        } else {
-            cost.push(f64::INFINITY);
-            choice.push(NONE);
-            depth.push(0);
-        }
-    }
-    Ok(Optimum::from_vecs(cost, choice, depth))
+    // In place (the same size and alignment): an object not finalised has no cost.
+    let slots: Vec<Slot> = slots
+        .into_iter()
+        .map(|s| {
+            if s.state() == DONE {
+                Slot {
+                    cost: s.cost,
+                    choice: s.choice,
+                    depth: s.depth(),
+                }
+            } else {
+                Slot {
+                    cost: f64::INFINITY,
+                    choice: NONE,
+                    depth: 0,
+                }
+            }
+        })
+        .collect();
+    Ok(Optimum::from_slots(slots))
 }
 
 /// The optimum of `objective` for the context's kitchen (computed on first use). The
 /// objectives of the optimal methods are computed together, on the thread pool (one plan of
 /// any of them makes the others free): `optimal-success`'s only when every motion has a rate.
 pub(super) fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
-    if objective != Objective::Shopping && !ctx.has_optimum(objective) {
+    if objective != Objective::Shopping
+        && !ctx.has_optimum(objective)
+        && !ctx.has_pending(objective)
+    {
         let success = || {
             if ctx.all_rated() {
                 one_optimum(ctx, Objective::Success).map(|_| ())
@@ -453,7 +461,7 @@ pub(super) fn optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<
 
 /// The optimum of `objective` alone (computed on first use).
 fn one_optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Optimum> {
-    ctx.optimum(objective, || {
+    ctx.optimum(ctx.foon, objective, &|| ctx.check_stop(), || {
         let kitchen = |o: u32| ctx.in_kitchen(o);
         let zero = |_: u32| 0.0;
         match objective {
@@ -474,26 +482,37 @@ fn one_optimum<'c>(ctx: &'c Context<'_>, objective: Objective) -> Result<&'c Opt
     })
 }
 
-/// Final cost and choice of every object needed for `goal`: read from the kitchen's optimum,
-/// or searched from the goal.
+/// Final cost and choice of every object needed for `goal`: read from the kitchen's optimum
+/// (or as much of its pending update as the goal needs), or searched from the goal.
 enum Costs<'c> {
-    Shared(&'c Optimum),
+    At(OptimumAt<'c>),
     Own(Knuth),
 }
 
 impl Costs<'_> {
     fn cost(&self, o: u32) -> f64 {
         match self {
-            Self::Shared(k) => k.cost(o),
+            Self::At(k) => k.cost(o),
             Self::Own(k) => k.cost.get(o),
         }
     }
 
     fn choice(&self, o: u32) -> u32 {
         match self {
-            Self::Shared(k) => k.choice(o),
+            Self::At(k) => k.choice(o),
             Self::Own(k) => k.choice.get(o),
         }
+    }
+}
+
+/// The optimum of `objective` as far as `goal` needs it (see [`Prepared::optimum_at`]),
+/// computed whole when the kitchen has neither it nor a pending update of it.
+///
+/// [`Prepared::optimum_at`]: crate::prepare::Prepared::optimum_at
+fn optimum_at<'c>(ctx: &'c Context<'_>, objective: Objective, goal: u32) -> Result<OptimumAt<'c>> {
+    match ctx.optimum_at(ctx.foon, objective, goal, &|| ctx.check_stop())? {
+        Some(k) => Ok(k),
+        None => optimum(ctx, objective).map(OptimumAt::Whole),
     }
 }
 
@@ -507,7 +526,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     // the error) depends on the goal: search from it.
     let shared = !ctx.is_from_scratch() && (objective != Objective::Success || ctx.all_rated());
     let k = if shared {
-        Costs::Shared(optimum(ctx, objective)?)
+        Costs::At(optimum_at(ctx, objective, goal)?)
     } else {
         let (leaf, weight): (f64, Box<dyn Fn(u32) -> Result<f64>>) = match query.method {
             // `0.0 - ln r`, not `-ln r`: a rate of 1 must weigh +0, as the leaves do. A -0
@@ -530,7 +549,7 @@ pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
     }
     let e = tree::emit_counted(ctx, goal, |o| k.choice(o));
     let (expanded, peak) = match &k {
-        Costs::Shared(_) => (e.visited, e.peak),
+        Costs::At(_) => (e.visited, e.peak),
         Costs::Own(k) => (k.expanded, k.peak),
     };
     let cost = if query.method == Method::OptimalSuccess {
@@ -561,7 +580,16 @@ pub(super) fn explain(ctx: &Context<'_>, goal: u32) -> Result<Explanation> {
             &|_| Ok(0.0),
         )?)
     } else {
-        Costs::Shared(optimum(ctx, Objective::Shopping)?)
+        // A goal K' cannot make needs the whole column (the cycle is found from costs that
+        // are not its tree's): the part read for it is let go first.
+        let mut at = Some(optimum_at(ctx, Objective::Shopping, goal)?);
+        if at.as_ref().is_some_and(|k| !k.cost(goal).is_finite()) {
+            at = None;
+        }
+        match at {
+            Some(k) => Costs::At(k),
+            None => Costs::At(OptimumAt::Whole(optimum(ctx, Objective::Shopping)?)),
+        }
     };
     if k.cost(goal).is_finite() {
         let units = tree::emit(ctx, goal, |o| k.choice(o));

@@ -21,7 +21,7 @@ use super::optimal::Entry;
 
 /// A min-queue on (cost, depth, object id) for non-negative, monotone costs (see the module
 /// documentation).
-pub(super) struct RadixQueue {
+pub(crate) struct RadixQueue {
     /// Bits of the last cost that bucket 0 was refilled at.
     last: u64,
     /// Entries whose cost is at most `last`, popped in [`Entry`] order.
@@ -32,7 +32,7 @@ pub(super) struct RadixQueue {
 }
 
 impl RadixQueue {
-    pub(super) fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             last: 0,
             low: BinaryHeap::new(),
@@ -41,7 +41,7 @@ impl RadixQueue {
     }
 
     #[inline]
-    pub(super) fn push(&mut self, e: Entry) {
+    pub(crate) fn push(&mut self, e: Entry) {
         // A cost with its sign bit set (below every other, as `Entry` orders floats) goes
         // with the least ones.
         let k = e.cost.to_bits();
@@ -87,20 +87,20 @@ impl RadixQueue {
 
     /// The least entry (cost, then depth, then object id), without removing it.
     #[inline]
-    pub(super) fn peek(&mut self) -> Option<&Entry> {
+    pub(crate) fn peek(&mut self) -> Option<&Entry> {
         self.refill();
         self.low.peek()
     }
 
     #[inline]
-    pub(super) fn pop(&mut self) -> Option<Entry> {
+    pub(crate) fn pop(&mut self) -> Option<Entry> {
         self.refill();
         self.low.pop()
     }
 
     /// The number of entries (counted, for the tests).
     #[cfg(test)]
-    pub(super) fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.low.len() + self.buckets.iter().map(Vec::len).sum::<usize>()
     }
 }

@@ -1,0 +1,559 @@
+//! The pass that moves per-object values (ranks, or one optimal objective's costs) from a
+//! kitchen to the same kitchen changed at a few objects, touching only what the change
+//! reaches, and that can stop and go on: it settles objects in (value, depth) order, so it
+//! can run only as far as one goal needs (`incremental.rs` keeps it half-run in a prepared
+//! kitchen and runs it further, or to the end, on later use).
+//!
+//! Ranks and each optimal objective's (cost, depth) are the least fixpoint of superior
+//! functions (a unit's value is above each of its needed inputs', and never decreases when
+//! one of them increases), so a change of the leaves moves only the values that depend on it:
+//!
+//! - the *affected* objects are the leaves removed (and the leaves added whose leaf value is
+//!   not below their value before, as with an object some unit makes from nothing at cost 0
+//!   when a leaf costs 1) and every object whose choice (the producer that achieves its
+//!   value before the change) needs an affected object: every other object keeps a tree that
+//!   the change leaves intact or cheaper, so its value can only decrease;
+//! - the affected objects are reset, seeded from their producers whose needed inputs are all
+//!   unaffected, and one run of Knuth's algorithm in (value, depth) order goes from them and
+//!   from the other new leaves through the units of every object it settles, lowering what
+//!   it reaches (Ramalingam and Reps's algorithm for both kinds of change at once).
+//!
+//! The choices follow from the final values alone (the lowest-index producer whose (value,
+//! depth) is the object's, `docs/METHODS.md`) and every sum is formed as from scratch (the
+//! unit's weight, then its inputs in input order), so the values, depths and choices are
+//! bit-identical to a computation from scratch.
+//!
+//! **Stopping early.** A unit's (value, depth) is strictly above each of its needed inputs'
+//! (the tie depth, `search::optimal::tie_depth`), so every value still to be found is above
+//! the least key in the queue (the *frontier*). An object whose current (value, depth) is at
+//! most the frontier's is final, choice included (an offer that could tie it would come from
+//! an input settled later, so it would be strictly above). A goal is *settled* once that
+//! holds for it, and then so does every object of its tree (each strictly below it): a plan
+//! can be read before the pass has run to the end.
+//!
+//! The pass keeps the values it changed apart (a hash map, marked by one bit per object) and
+//! reads every other value from the values before the change, so it costs what it reaches:
+//! O((A + L) log A) plus the needed and output slots of the units it reaches, for A affected
+//! and L lowered objects.
+
+use rustc_hash::FxHashMap;
+
+use crate::error::Result;
+use crate::index::{Foon, NONE};
+use crate::prepare::{Prepared, Slot};
+use crate::search::optimal::{Entry, better, lower, tie_depth};
+use crate::search::radix::RadixQueue;
+
+/// How a unit's value follows from its needed inputs' values.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Combine {
+    /// The unit's weight plus its inputs' costs, in input order; the depth is the tie key.
+    Sum,
+    /// One more than the largest rank of its inputs; depth 0.
+    Rank,
+}
+
+/// One kind of value's rules for a pass, and the values before the change.
+pub(crate) trait Rules: Sync {
+    const COMBINE: Combine;
+    /// Whether choices are kept with the values (else an offer that only ties is no change).
+    const CHOICES: bool;
+    /// The (value, depth) of `o` before the change (`f64::INFINITY` when it had none) and its
+    /// choice as kept with the values (`NONE` when none is kept: ties are then broken by the
+    /// pass alone, which values do not depend on).
+    fn before(&self, o: u32) -> Slot;
+    /// The producer that achieves `o`'s value before the change (`NONE` for a leaf or an
+    /// object without a finite value): what decides whether `o` is affected.
+    fn old_choice(&self, o: u32) -> u32;
+    /// Whether `o` is a leaf before and after the change.
+    fn was_leaf(&self, o: u32) -> bool;
+    fn is_leaf(&self, o: u32) -> bool;
+    /// The (value, depth) of a leaf.
+    fn leaf(&self) -> (f64, u32);
+    /// The weight of unit `f` ([`Combine::Sum`]).
+    fn weight(&self, f: u32) -> f64;
+}
+
+/// Marks of an object the pass touched.
+const AFFECTED: u8 = 1;
+const DONE: u8 = 2;
+
+/// An object's value as the pass has changed it.
+#[derive(Clone, Copy)]
+struct Local {
+    slot: Slot,
+    mark: u8,
+}
+
+/// The values the pass changed: in a hash map (marked by one bit per object) while they are
+/// few, in an array over every object once they pass [`DENSE_FROM`] (one read per look-up;
+/// its zeroed pages cost nothing until touched, so it costs memory in proportion to the part
+/// of the FOON the pass reaches).
+struct Changed {
+    /// One bit per object: whether it is present (read first: it stays in the caches).
+    bits: Vec<u64>,
+    values: Values,
+}
+
+enum Values {
+    Sparse(FxHashMap<u32, Local>),
+    /// Per object: cost bits; choice and mark; depth (an anonymous mapping, so that its
+    /// pages are zeroed by the system when first touched, never all at once). And the objects
+    /// present.
+    Dense {
+        words: memmap2::MmapMut,
+        present: Vec<u32>,
+    },
+}
+
+/// The dense array's entry of a value.
+#[inline]
+fn encode(l: Local) -> [u64; 3] {
+    [
+        l.slot.cost.to_bits(),
+        u64::from(l.slot.choice) | (u64::from(l.mark) << 32),
+        u64::from(l.slot.depth),
+    ]
+}
+
+#[inline]
+fn dense(words: &[u8]) -> &[[u64; 3]] {
+    bytemuck::cast_slice(words)
+}
+
+#[inline]
+fn dense_mut(words: &mut [u8]) -> &mut [[u64; 3]] {
+    bytemuck::cast_slice_mut(words)
+}
+
+/// A pass that changes more than this many objects (or one in `DENSE_SHARE` of the FOON)
+/// keeps them in an array.
+const DENSE_FROM: usize = 4096;
+const DENSE_SHARE: usize = 256;
+
+impl Changed {
+    fn new(n: usize) -> Self {
+        Self {
+            bits: vec![0; n.div_ceil(64)],
+            values: Values::Sparse(FxHashMap::default()),
+        }
+    }
+
+    #[inline]
+    fn get(&self, o: u32) -> Option<Local> {
+        let u = o as usize;
+        if (self.bits[u >> 6] >> (u & 63)) & 1 == 0 {
+            return None;
+        }
+        match &self.values {
+            Values::Sparse(map) => map.get(&o).copied(),
+            Values::Dense { words, .. } => {
+                let [c, m, d] = dense(words)[u];
+                Some(Local {
+                    slot: Slot {
+                        cost: f64::from_bits(c),
+                        choice: m as u32,
+                        depth: d as u32,
+                    },
+                    mark: (m >> 32) as u8,
+                })
+            }
+        }
+    }
+
+    #[inline]
+    fn put(&mut self, o: u32, l: Local) {
+        let u = o as usize;
+        let new = (self.bits[u >> 6] >> (u & 63)) & 1 == 0;
+        self.bits[u >> 6] |= 1 << (u & 63);
+        match &mut self.values {
+            Values::Sparse(map) => {
+                map.insert(o, l);
+                let n = self.bits.len() * 64;
+                if map.len() > DENSE_FROM.max(n / DENSE_SHARE) {
+                    self.densify(n);
+                }
+            }
+            Values::Dense { words, present } => {
+                if new {
+                    present.push(o);
+                }
+                dense_mut(words)[u] = encode(l);
+            }
+        }
+    }
+
+    /// Moves the changes of a sparse store into an array over the `n` (rounded) objects.
+    #[cold]
+    fn densify(&mut self, n: usize) {
+        let Values::Sparse(map) = &mut self.values else {
+            return;
+        };
+        let Ok(mut words) = memmap2::MmapMut::map_anon(24 * n) else {
+            // No memory for the array: the map goes on.
+            return;
+        };
+        let map = std::mem::take(map);
+        let mut present = Vec::with_capacity(2 * map.len());
+        for (o, l) in map {
+            present.push(o);
+            dense_mut(&mut words)[o as usize] = encode(l);
+        }
+        self.values = Values::Dense { words, present };
+    }
+
+    /// Every object present, with its value.
+    fn into_iter(self) -> Box<dyn Iterator<Item = (u32, Slot)>> {
+        match self.values {
+            Values::Sparse(map) => Box::new(map.into_iter().map(|(o, l)| (o, l.slot))),
+            Values::Dense { words, present } => Box::new(present.into_iter().map(move |o| {
+                let [c, m, d] = dense(&words)[o as usize];
+                (
+                    o,
+                    Slot {
+                        cost: f64::from_bits(c),
+                        choice: m as u32,
+                        depth: d as u32,
+                    },
+                )
+            })),
+        }
+    }
+
+    fn heap_bytes(&self) -> usize {
+        8 * self.bits.capacity()
+            + match &self.values {
+                Values::Sparse(map) => (std::mem::size_of::<(u32, Local)>() + 1) * map.capacity(),
+                // The pages touched, at most: one per object present.
+                Values::Dense { words, present } => {
+                    4 * present.capacity() + words.len().min(4096 * present.len())
+                }
+            }
+    }
+}
+
+/// How often a pass calls its `stop` callback: every `STOP_EVERY` objects (every object in
+/// the unit tests, so that they stop passes anywhere).
+const STOP_EVERY: u32 = if cfg!(test) { 1 } else { 4096 };
+
+/// How far [`Relax::advance`] went.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Reached {
+    /// The goal asked for is settled; the pass can go on.
+    Settled,
+    /// The pass ran to the end: every value is final.
+    End,
+    /// The pass reached more objects than its limit: what it computed is to be dropped.
+    TooFar,
+}
+
+/// A pass under way (see the module documentation).
+pub(crate) struct Relax {
+    local: Changed,
+    queue: RadixQueue,
+    /// The affected objects.
+    affected: Vec<u32>,
+    /// Objects settled that were not affected (lowered, or offered a tie).
+    lowered: usize,
+    end: bool,
+}
+
+impl Relax {
+    /// Starts a pass from the values of `rules` to those of the leaves after the change,
+    /// the leaves that changed being among `flipped` (object ids, any order): marks the
+    /// affected objects (read before any value changes), resets and seeds them. `None` when
+    /// more than `limit` objects are affected.
+    pub(crate) fn start<R: Rules>(
+        foon: &Foon,
+        prep: &Prepared,
+        rules: &R,
+        flipped: &[u32],
+        limit: usize,
+    ) -> Option<Self> {
+        let n = foon.object_count();
+        let mut r = Self {
+            local: Changed::new(n),
+            queue: RadixQueue::new(),
+            affected: Vec::new(),
+            lowered: 0,
+            end: false,
+        };
+        let none = Slot {
+            cost: f64::INFINITY,
+            choice: NONE,
+            depth: 0,
+        };
+        // A leaf removed (or added with a value not below its value before) may raise what
+        // is made from it; a leaf added below its value before only lowers it (seeded below).
+        let (leaf, leaf_depth) = rules.leaf();
+        let lowers = |o: u32| {
+            let b = rules.before(o);
+            rules.is_leaf(o) && lower(leaf, leaf_depth, b.cost, b.depth)
+        };
+        for &o in flipped {
+            if rules.was_leaf(o) != rules.is_leaf(o) && !lowers(o) && r.mark(o) & AFFECTED == 0 {
+                r.put(o, none, AFFECTED);
+                r.affected.push(o);
+            }
+        }
+        // Every object whose choice needs an affected object, transitively.
+        let mut i = 0;
+        while let Some(&x) = r.affected.get(i) {
+            i += 1;
+            if r.affected.len() > limit {
+                return None;
+            }
+            for &f in prep.needed_by(x) {
+                for &y in foon.outputs(f) {
+                    if r.mark(y) & AFFECTED == 0 && rules.old_choice(y) == f {
+                        r.put(y, none, AFFECTED);
+                        r.affected.push(y);
+                    }
+                }
+            }
+        }
+        let leaf_slot = Slot {
+            cost: leaf,
+            choice: NONE,
+            depth: leaf_depth,
+        };
+        let leaf_entry = |obj| Entry {
+            cost: leaf,
+            depth: leaf_depth,
+            obj,
+        };
+        for &o in flipped {
+            if !rules.was_leaf(o) && lowers(o) && r.mark(o) & AFFECTED == 0 {
+                r.put(o, leaf_slot, 0);
+                r.queue.push(leaf_entry(o));
+            }
+        }
+        for i in 0..r.affected.len() {
+            let y = r.affected[i];
+            if rules.is_leaf(y) {
+                r.put(y, leaf_slot, AFFECTED);
+                r.queue.push(leaf_entry(y));
+            } else if !prep.is_bare(y) {
+                for &f in foon.producers(y) {
+                    if let Some((c, d)) = r.unit(prep, rules, f) {
+                        r.offer(rules, y, f, c, d);
+                    }
+                }
+            }
+        }
+        Some(r)
+    }
+
+    /// The current (value, depth) and choice of `o` (final once [`Relax::is_settled`]).
+    #[inline]
+    pub(crate) fn get<R: Rules>(&self, rules: &R, o: u32) -> Slot {
+        self.changed(o).unwrap_or_else(|| rules.before(o))
+    }
+
+    /// The value of `o` when the pass changed it (else it is the value before the change).
+    #[inline]
+    pub(crate) fn changed(&self, o: u32) -> Option<Slot> {
+        self.local_of(o).map(|l| l.slot)
+    }
+
+    /// Whether the value and choice of `o` are final.
+    pub(crate) fn is_settled<R: Rules>(&mut self, rules: &R, o: u32) -> bool {
+        if self.end {
+            return true;
+        }
+        let s = match self.local_of(o) {
+            Some(l) if l.mark & DONE != 0 => return true,
+            Some(l) => l.slot,
+            None => self.get(rules, o),
+        };
+        match self.queue.peek() {
+            None => true,
+            Some(top) => !lower(top.cost, top.depth, s.cost, s.depth),
+        }
+    }
+
+    /// Runs the pass until `goal` is settled (to the end with `None`), calling `stop` every
+    /// few thousand settled objects (its error stops the pass where it is, to be run again
+    /// later). Stops with [`Reached::TooFar`] once more than `limit` objects that were not
+    /// affected have been settled.
+    pub(crate) fn advance<R: Rules>(
+        &mut self,
+        foon: &Foon,
+        prep: &Prepared,
+        rules: &R,
+        goal: Option<u32>,
+        limit: usize,
+        stop: &dyn Fn() -> Result<()>,
+    ) -> Result<Reached> {
+        if self.end {
+            return Ok(Reached::End);
+        }
+        let mut until_stop = STOP_EVERY;
+        loop {
+            if let Some(g) = goal
+                && self.is_settled(rules, g)
+            {
+                return Ok(Reached::Settled);
+            }
+            // Between two objects, so that a stopped pass goes on where it stopped.
+            until_stop -= 1;
+            if until_stop == 0 {
+                until_stop = STOP_EVERY;
+                stop()?;
+            }
+            let Some(Entry {
+                cost,
+                depth,
+                obj: o,
+            }) = self.queue.pop()
+            else {
+                break;
+            };
+            let Some(l) = self.local_of(o) else { continue };
+            if l.mark & DONE != 0
+                || (l.slot.cost.to_bits(), l.slot.depth) != (cost.to_bits(), depth)
+            {
+                continue;
+            }
+            let mark = l.mark | DONE;
+            self.set_mark(o, l.slot, mark);
+            if mark & AFFECTED == 0 {
+                self.lowered += 1;
+                if self.lowered > limit {
+                    return Ok(Reached::TooFar);
+                }
+            }
+            for &f in prep.needed_by(o) {
+                let Some((c, d)) = self.unit(prep, rules, f) else {
+                    continue;
+                };
+                for &y in foon.outputs(f) {
+                    if rules.is_leaf(y) || prep.is_bare(y) || self.mark(y) & DONE != 0 {
+                        continue;
+                    }
+                    self.offer(rules, y, f, c, d);
+                }
+            }
+        }
+        // Affected objects never reached have no value.
+        for i in 0..self.affected.len() {
+            let y = self.affected[i];
+            let m = self.mark(y);
+            if m & DONE == 0 {
+                self.put(
+                    y,
+                    Slot {
+                        cost: f64::INFINITY,
+                        choice: NONE,
+                        depth: 0,
+                    },
+                    m,
+                );
+            }
+        }
+        self.end = true;
+        Ok(Reached::End)
+    }
+
+    /// The objects whose value or choice may have changed, with their final values (once
+    /// the pass ran to the end).
+    pub(crate) fn changes(self) -> impl Iterator<Item = (u32, Slot)> {
+        debug_assert!(self.end);
+        self.local.into_iter()
+    }
+
+    /// Heap bytes held by the pass.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        self.local.heap_bytes() + 4 * self.affected.capacity()
+    }
+
+    #[inline]
+    fn local_of(&self, o: u32) -> Option<Local> {
+        self.local.get(o)
+    }
+
+    #[inline]
+    fn mark(&self, o: u32) -> u8 {
+        self.local.get(o).map_or(0, |l| l.mark)
+    }
+
+    #[inline]
+    fn set_mark(&mut self, o: u32, slot: Slot, mark: u8) {
+        self.local.put(o, Local { slot, mark });
+    }
+
+    #[inline]
+    fn put(&mut self, o: u32, slot: Slot, mark: u8) {
+        self.local.put(o, Local { slot, mark });
+    }
+
+    /// The (value, depth) unit `f` offers its outputs from the current values, `None` when
+    /// one of its needed inputs has no value yet (an infinite one, or an affected one not
+    /// settled) or the value is infinite (a motion of rate 0).
+    #[inline]
+    fn unit<R: Rules>(&self, prep: &Prepared, rules: &R, f: u32) -> Option<(f64, u32)> {
+        let needed = prep.needed(f);
+        let read = |x: u32| -> Option<(f64, u32)> {
+            let (c, d, m) = if let Some(l) = self.local_of(x) {
+                (l.slot.cost, l.slot.depth, l.mark)
+            } else {
+                let s = rules.before(x);
+                (s.cost, s.depth, 0)
+            };
+            (c.is_finite() && (m & AFFECTED == 0 || m & DONE != 0)).then_some((c, d))
+        };
+        match R::COMBINE {
+            Combine::Sum => {
+                let mut c = rules.weight(f);
+                for &x in needed {
+                    c += read(x)?.0;
+                }
+                if c == f64::INFINITY {
+                    return None;
+                }
+                let d = tie_depth(c, needed.iter().filter_map(|&x| read(x)));
+                Some((c, d))
+            }
+            Combine::Rank => {
+                let mut m = 0.0f64;
+                for &x in needed {
+                    m = m.max(read(x)?.0);
+                }
+                Some((m + 1.0, 0))
+            }
+        }
+    }
+
+    /// Offers `y` the value (`c`, `d`) of unit `f`: kept when it beats `y`'s current one
+    /// (queued when strictly lower).
+    #[inline]
+    fn offer<R: Rules>(&mut self, rules: &R, y: u32, f: u32, c: f64, d: u32) {
+        let (old, mark) = match self.local_of(y) {
+            Some(l) => (l.slot, l.mark),
+            None => (self.get(rules, y), 0),
+        };
+        let wins = if R::CHOICES {
+            better(c, d, f, old.cost, old.depth, old.choice)
+        } else {
+            lower(c, d, old.cost, old.depth)
+        };
+        if wins {
+            if !R::CHOICES || lower(c, d, old.cost, old.depth) {
+                self.queue.push(Entry {
+                    cost: c,
+                    depth: d,
+                    obj: y,
+                });
+            }
+            self.put(
+                y,
+                Slot {
+                    cost: c,
+                    choice: f,
+                    depth: d,
+                },
+                mark,
+            );
+        }
+    }
+}
