@@ -208,7 +208,7 @@ def _null_ids(path: str, batch: pa.RecordBatch, first_row: int, line_of: Callabl
         raise ValueError(f"{path}:{line_of(first_row + i)}: the query has no query_id")
 
 
-def _parquet_batches(path: str, rows: int) -> Iterator[pa.RecordBatch]:
+def _parquet_batches(path: str, rows: int, use_threads: bool) -> Iterator[pa.RecordBatch]:
     import pyarrow.parquet as pq  # type: ignore[import-untyped]
 
     try:
@@ -220,7 +220,7 @@ def _parquet_batches(path: str, rows: int) -> Iterator[pa.RecordBatch]:
         cols = [c for c in ("query_id", "kitchen_id", "goal", "method", "options")
                 if c in f.schema_arrow.names]  # fmt: skip
         try:
-            yield from f.iter_batches(batch_size=rows, columns=cols)
+            yield from f.iter_batches(batch_size=rows, columns=cols, use_threads=use_threads)
         except OSError as e:
             raise ValueError(f"{path}: {e}") from None
 
@@ -249,7 +249,7 @@ def _csv_line_error(path: str) -> str | None:
     return None
 
 
-def _csv_batches(path: str) -> Iterator[pa.RecordBatch]:
+def _csv_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
     import pyarrow as pa
     import pyarrow.csv as pcsv  # type: ignore[import-untyped]
 
@@ -258,7 +258,7 @@ def _csv_batches(path: str) -> Iterator[pa.RecordBatch]:
     try:
         reader = pcsv.open_csv(
             path,
-            read_options=pcsv.ReadOptions(block_size=1 << 20),
+            read_options=pcsv.ReadOptions(block_size=1 << 20, use_threads=use_threads),
             convert_options=pcsv.ConvertOptions(
                 column_types=text, strings_can_be_null=False, quoted_strings_can_be_null=False
             ),
@@ -322,11 +322,12 @@ def _json_schema() -> pa.Schema:
                                                  "options")])  # fmt: skip
 
 
-def _json_batches(path: str) -> Iterator[pa.RecordBatch]:
+def _json_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
     import pyarrow as pa
     import pyarrow.json as pjson  # type: ignore[import-untyped]
 
     opts = pjson.ParseOptions(explicit_schema=_json_schema(), unexpected_field_behavior="ignore")
+    reads = pjson.ReadOptions(use_threads=use_threads)
     with open(path, "rb") as f:
         line = 1
         while True:
@@ -335,7 +336,7 @@ def _json_batches(path: str) -> Iterator[pa.RecordBatch]:
                 return
             block = b"".join(x if x.endswith(b"\n") else x + b"\n" for x in lines)
             try:
-                t = pjson.read_json(io.BytesIO(block), parse_options=opts)
+                t = pjson.read_json(io.BytesIO(block), parse_options=opts, read_options=reads)
                 # Missing keys, integer ids, goals as objects, blank lines: line by line.
                 if t.num_rows != len(lines) or any(t.column(c).null_count for c in _REQUIRED):
                     raise pa.ArrowInvalid("not plain")
@@ -348,11 +349,14 @@ def _json_batches(path: str) -> Iterator[pa.RecordBatch]:
             line += len(lines)
 
 
-def read_queries(path: str, rows: int = DEFAULT_CHUNK_SIZE) -> Iterator[pa.RecordBatch]:
+def read_queries(
+    path: str, rows: int = DEFAULT_CHUNK_SIZE, *, use_threads: bool = True
+) -> Iterator[pa.RecordBatch]:
     """The query rows of a Parquet, CSV or JSON-lines file, as record batches of the query
     columns (at most ``rows`` rows each for Parquet; a block at a time for the others).
     A file that cannot be read as queries is a ``ValueError`` naming it (and the line, for
-    text files); a missing file is ``FileNotFoundError``."""
+    text files); a missing file is ``FileNotFoundError``. ``use_threads=False``: pyarrow
+    decodes on the calling thread alone."""
     path = os.fspath(path)
     kind = _format_of(path)
     if not os.path.isfile(path):
@@ -360,10 +364,10 @@ def read_queries(path: str, rows: int = DEFAULT_CHUNK_SIZE) -> Iterator[pa.Recor
             raise ValueError(f"{path}: not a file")
         raise FileNotFoundError(f"{path}: no such file")
     if kind == "parquet":
-        return _parquet_batches(path, rows)
+        return _parquet_batches(path, rows, use_threads)
     if kind == "csv":
-        return _csv_batches(path)
-    return _json_batches(path)
+        return _csv_batches(path, use_threads)
+    return _json_batches(path, use_threads)
 
 
 def _line_mapper(kind: str) -> Callable[[int], int]:
@@ -374,25 +378,25 @@ def _line_mapper(kind: str) -> Callable[[int], int]:
     return lambda i: i + 1
 
 
-def scan_queries(path: str) -> int:
+def scan_queries(path: str, *, use_threads: bool = True) -> int:
     """Reads the whole query file once, checking it; returns its row count."""
     kind = _format_of(os.fspath(path))
     n = 0
-    for b in read_queries(path):
+    for b in read_queries(path, use_threads=use_threads):
         _check_schema(os.fspath(path), b.schema)
         _null_ids(os.fspath(path), b, n, _line_mapper(kind))
         n += b.num_rows
     return n
 
 
-def chunks(path: str, size: int) -> Iterator[tuple[int, pa.Table]]:
+def chunks(path: str, size: int, *, use_threads: bool = True) -> Iterator[tuple[int, pa.Table]]:
     """``(k, table)``: the query rows of partition ``k``, ``size`` rows each but the last."""
     import pyarrow as pa
 
     pending: list[pa.RecordBatch] = []
     have = 0
     k = 0
-    for b in read_queries(path, size):
+    for b in read_queries(path, size, use_threads=use_threads):
         while b.num_rows:
             take = min(size - have, b.num_rows)
             pending.append(b.slice(0, take))
@@ -702,16 +706,19 @@ def _plan_locally(
     out: str,
     ahead: int,
     first: _Early | None = None,
+    overlap: bool = True,
 ) -> None:
     """The local engine: ``plan(chunk, cancel)`` answers each chunk of ``todo``, ``ahead``
     chunks at once (each call on the core's pool, whose threads take a later chunk's rows
     while the last rows of another run, so that no thread waits at a chunk's end, nor for a
     chunk slower than the others). The partitions are written (and hashed) in order by a
-    writer thread while later chunks are planned, and recorded in order, each once it is
-    whole: at most 2 * ``ahead`` chunks' answers wait to be written, and one is written.
-    An interrupted or failed run stops the chunks being planned and still records the
-    partition being written. ``first``: chunk 0 being planned already (its answers are
-    used when ``todo`` starts with chunk 0)."""
+    writer thread while later chunks are planned (with ``overlap``; without, each is written
+    before the next chunk is planned, so that one thread works at a time: a batch asked to
+    run on one thread), and recorded in order, each once it is whole: at most 2 * ``ahead``
+    chunks' answers wait to be written, and one is written. An interrupted or failed run
+    stops the chunks being planned and still records the partition being written.
+    ``first``: chunk 0 being planned already (its answers are used when ``todo`` starts with
+    chunk 0)."""
     import threading
     from collections import deque
     from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -746,6 +753,10 @@ def _plan_locally(
                         writing = None
                         record(done_k, entry)
                     writing = (k, w.submit(write_partition, out, k, answered.pop(k)))
+                    if not overlap:
+                        done_k, entry = writing[0], writing[1].result()
+                        writing = None
+                        record(done_k, entry)
                     continue
                 if not running:
                     break
@@ -825,11 +836,13 @@ def batch(
     # answers held: its kitchens' preparation need not wait for the whole file's check.
     # (Not when an earlier run's manifest lists that chunk: a resumed run plans only what is
     # missing.)
+    # One thread asked for: one thread works at a time (pyarrow's readers included).
+    alone = engine == "local" and threads == 1
     ahead = 1 if threads == 1 else LOCAL_AHEAD
     early = engine == "local" and ahead > 1 and not (resume and _listed(opath, part_key(0)))
     first = _Early.start(qpath, chunk_size, plan) if early else None
     try:
-        total = scan_queries(qpath)
+        total = scan_queries(qpath, use_threads=not alone)
         if engine == "dask" and f.index_path is None:
             raise ValueError(
                 "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
@@ -889,11 +902,15 @@ def batch(
         if report is not None:
             report(done, total)
 
-    todo = ((k, t) for k, t in chunks(qpath, chunk_size) if part_key(k) not in kept)
+    todo = (
+        (k, t)
+        for k, t in chunks(qpath, chunk_size, use_threads=not alone)
+        if part_key(k) not in kept
+    )
     t0 = time.perf_counter()
     try:
         if engine == "local":
-            _plan_locally(todo, plan, record, opath, ahead, first)
+            _plan_locally(todo, plan, record, opath, ahead, first, overlap=not alone)
             first = None
         else:
             from foon import _dask
