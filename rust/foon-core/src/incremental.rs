@@ -348,13 +348,14 @@ impl Pending {
 
     /// The optimum, once the pass has run to the end.
     pub(crate) fn finish(self) -> Optimum {
-        let mut e = self.before.edit();
-        if let Some(r) = self.relax {
-            for (o, s) in r.changes() {
-                e.set(o, s);
+        let slots = match self.relax {
+            Some(r) => {
+                let count = r.changed_count();
+                self.before.changed(r.changes(), count)
             }
-        }
-        Optimum { slots: e.finish() }
+            None => self.before,
+        };
+        Optimum { slots }
     }
 
     /// Whether the pass has started.
@@ -486,20 +487,22 @@ impl Prepared {
         ) {
             return (None, None);
         }
-        let mut rank = r.layered().edit();
-        let mut touched = Vec::new();
-        for (o, s) in relax.changes() {
-            rank.set(
-                o,
-                if s.cost.is_finite() {
-                    s.cost as u32
-                } else {
-                    NONE
-                },
-            );
-            touched.push(o);
-        }
-        let rank = rank.finish();
+        let count = relax.changed_count();
+        let changes: Vec<(u32, u32)> = relax
+            .changes()
+            .map(|(o, s)| {
+                (
+                    o,
+                    if s.cost.is_finite() {
+                        s.cost as u32
+                    } else {
+                        NONE
+                    },
+                )
+            })
+            .collect();
+        let touched: Vec<u32> = changes.iter().map(|&(o, _)| o).collect();
+        let rank = r.layered().changed(changes, count);
         let ids = self
             .computed_ids_choice()
             .map(|c| delta_ids_choice(foon, new_prep, &rank, c, &touched));

@@ -151,6 +151,26 @@ impl<T: Value> Layered<T> {
     }
 }
 
+impl<T: Value> Layered<T> {
+    /// This column with the values of `changes` (`count` of them at most) set: kept apart,
+    /// or written out whole at once when they are more than [`Editor::finish`] would keep
+    /// apart.
+    pub(crate) fn changed(
+        &self,
+        changes: impl IntoIterator<Item = (u32, T)>,
+        count: usize,
+    ) -> Self {
+        let mut e = self.edit();
+        if e.dense.is_none() && e.values.len() + count > e.sparse_limit() {
+            e.write_out();
+        }
+        for (i, v) in changes {
+            e.set(i, v);
+        }
+        e.finish()
+    }
+}
+
 impl<T: Value> PartialEq for Layered<T> {
     /// The same values, however they are kept.
     fn eq(&self, other: &Self) -> bool {
