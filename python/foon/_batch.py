@@ -736,7 +736,9 @@ def _plan_locally(
         try:
             more = True
             while True:
-                while more and len(running) < ahead and len(order) < 2 * ahead:
+                # Without overlap, a chunk answered is written before the next is planned.
+                while (more and len(running) < ahead and len(order) < 2 * ahead
+                       and (overlap or not answered)):  # fmt: skip
                     nxt = next(chunks, None)
                     if nxt is None:
                         more = False
