@@ -521,13 +521,22 @@ impl Relax {
         match R::COMBINE {
             Combine::Sum => {
                 let mut c = rules.weight(f);
+                let mut most = f64::NEG_INFINITY;
                 for &x in needed {
-                    c += read(x)?.0;
+                    let xc = read(x)?.0;
+                    c += xc;
+                    most = most.max(xc);
                 }
                 if c == f64::INFINITY {
                     return None;
                 }
-                let d = tie_depth(c, needed.iter().filter_map(|&x| read(x)));
+                // The tie depth counts inputs that cost exactly the sum: none when the sum is
+                // above every input (most units; not always, as a sum may round to an input).
+                let d = if c > most {
+                    0
+                } else {
+                    tie_depth(c, needed.iter().filter_map(|&x| read(x)))
+                };
                 Some((c, d))
             }
             Combine::Rank => {
