@@ -29,6 +29,7 @@ use crate::layered::Layered;
 use crate::model::ObjectSpec;
 use crate::prepare::{Objective, Optimum, Prepared, Slot};
 use crate::relax::{Combine, Reached, Relax, Rules};
+use crate::search::ids::unit_rank;
 
 /// A pass that reaches more than one object in `REACH_SHARE` (and more than `REACH_MIN`)
 /// stops: the part is then computed from scratch, which costs less than an update of that
@@ -154,21 +155,10 @@ impl Rules for RankRules<'_> {
 /// The first producer of `o` (of rank `r`) whose needed inputs' largest rank (by `rank`,
 /// `NONE` when not derivable) is `r - 1`: the choice of `ids` (`NONE` when none).
 fn ids_choice_with(foon: &Foon, prep: &Prepared, rank: impl Fn(u32) -> u32, o: u32, r: u32) -> u32 {
-    let value = |f: u32| {
-        let mut m = 0;
-        for &x in prep.needed(f) {
-            let rx = rank(x);
-            if rx == NONE {
-                return NONE;
-            }
-            m = m.max(rx);
-        }
-        m + 1
-    };
     foon.producers(o)
         .iter()
         .copied()
-        .find(|&f| value(f) == r)
+        .find(|&f| unit_rank(prep.needed(f), &rank) == r)
         .unwrap_or(NONE)
 }
 
@@ -200,17 +190,7 @@ fn delta_ids_choice(
     touched: &[u32],
 ) -> Layered<u32> {
     let rank_of = |x: u32| if prep.in_kitchen(x) { 0 } else { rank.get(x) };
-    let value = |f: u32| {
-        let mut m = 0;
-        for &x in prep.needed(f) {
-            let rx = rank_of(x);
-            if rx == NONE {
-                return NONE;
-            }
-            m = m.max(rx);
-        }
-        m + 1
-    };
+    let value = |f: u32| unit_rank(prep.needed(f), rank_of);
     let again: FxHashSet<u32> = touched.iter().copied().collect();
     let mut seen: FxHashSet<u32> = FxHashSet::default();
     let mut recompute: Vec<u32> = touched.to_vec();

@@ -158,6 +158,21 @@ fn dls(
     Ok(result)
 }
 
+/// The rank a unit gives its outputs: one more than the largest rank (by `rank`, kitchen
+/// objects at 0) of its `needed` inputs, `NONE` when one of them is not derivable. A unit whose
+/// value is an object's rank achieves it.
+pub(crate) fn unit_rank(needed: &[u32], rank: impl Fn(u32) -> u32) -> u32 {
+    let mut m = 0;
+    for &x in needed {
+        let r = rank(x);
+        if r == NONE {
+            return NONE;
+        }
+        m = m.max(r);
+    }
+    m + 1
+}
+
 /// The choice of `ids` for every object: the first producer whose value is the object's rank
 /// (`NONE` for kitchen objects and objects that are not derivable).
 fn choices(ctx: &Context<'_>) -> Result<Vec<u32>> {
@@ -167,17 +182,7 @@ fn choices(ctx: &Context<'_>) -> Result<Vec<u32>> {
         if ctx.in_kitchen(x) { 0 } else { ranks.raw(x) }
     };
     let value: Vec<u32> = (0..foon.fu_count() as u32)
-        .map(|f| {
-            let mut m = 0;
-            for &x in ctx.needed(f) {
-                let r = rank(x);
-                if r == NONE {
-                    return NONE;
-                }
-                m = m.max(r);
-            }
-            m + 1
-        })
+        .map(|f| unit_rank(ctx.needed(f), rank))
         .collect();
     let mut out = vec![NONE; foon.object_count()];
     for (o, slot) in (0..).zip(out.iter_mut()) {

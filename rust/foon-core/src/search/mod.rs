@@ -7,7 +7,7 @@ mod context;
 mod course;
 mod greedy;
 mod heuristic;
-mod ids;
+pub(crate) mod ids;
 pub mod kbest;
 pub(crate) mod optimal;
 pub mod paths;
