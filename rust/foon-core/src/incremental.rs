@@ -809,22 +809,37 @@ mod tests {
         assert!(part_run > 30, "only {part_run} updates were read part run");
     }
 
+    /// A random FOON (every motion at `rate`) and kitchen whose preparation has computed
+    /// every part, the kitchen changed by the delta `added`, `removed` draw (from the FOON's
+    /// object count): the FOON, the incremental preparation and the one from scratch.
+    fn delta_case(
+        rng: &mut Rng,
+        rate: f64,
+        added: impl Fn(&mut Rng, usize) -> Vec<u32>,
+        removed: impl Fn(&mut Rng, usize) -> Vec<u32>,
+    ) -> (Foon, Prepared, Prepared) {
+        let foon = random_foon(rng);
+        let n = foon.object_count();
+        let kitchen: Vec<u32> = (0..n as u32).filter(|_| rng.below(3) == 0).collect();
+        let rates = MotionRates::from_pairs((0..4).map(|m| (format!("m{m}"), rate))).unwrap();
+        let base = Prepared::with_objects(&foon, &kitchen, &[], Some(&rates), None).unwrap();
+        compute(&foon, &base, 15);
+        let (added, removed) = (added(rng, n), removed(rng, n));
+        let inc = base.with_delta(&foon, &added, &removed).unwrap();
+        let new = changed_kitchen(&kitchen, &added, &removed);
+        let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
+        (foon, inc, fresh)
+    }
+
     /// Threads planning at once on one kitchen whose updates are pending (each plan runs the
     /// update a little further under its lock) get the plans from scratch.
     #[test]
     fn threads_share_a_pending_update() {
         let mut rng = Rng(0x9e37_79b9);
         for _ in 0..40 {
-            let foon = random_foon(&mut rng);
+            let added = |rng: &mut Rng, n: usize| (0..3).map(|_| rng.below(n) as u32).collect();
+            let (foon, inc, fresh) = delta_case(&mut rng, 0.5, added, |_, _| Vec::new());
             let n = foon.object_count();
-            let kitchen: Vec<u32> = (0..n as u32).filter(|_| rng.below(3) == 0).collect();
-            let rates = MotionRates::from_pairs((0..4).map(|m| (format!("m{m}"), 0.5))).unwrap();
-            let base = Prepared::with_objects(&foon, &kitchen, &[], Some(&rates), None).unwrap();
-            compute(&foon, &base, 15);
-            let added: Vec<u32> = (0..3).map(|_| rng.below(n) as u32).collect();
-            let inc = base.with_delta(&foon, &added, &[]).unwrap();
-            let new = changed_kitchen(&kitchen, &added, &[]);
-            let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
             let all: Vec<u32> = (0..n as u32).collect();
             std::thread::scope(|s| {
                 for t in 0..4 {
@@ -845,17 +860,9 @@ mod tests {
         let mut rng = Rng(0x51_7cc1_b727_220a);
         let mut cancelled = 0;
         for _ in 0..200 {
-            let foon = random_foon(&mut rng);
+            let two = |rng: &mut Rng, n: usize| (0..2).map(|_| rng.below(n) as u32).collect();
+            let (foon, inc, fresh) = delta_case(&mut rng, 0.9, two, two);
             let n = foon.object_count();
-            let kitchen: Vec<u32> = (0..n as u32).filter(|_| rng.below(3) == 0).collect();
-            let rates = MotionRates::from_pairs((0..4).map(|m| (format!("m{m}"), 0.9))).unwrap();
-            let base = Prepared::with_objects(&foon, &kitchen, &[], Some(&rates), None).unwrap();
-            compute(&foon, &base, 15);
-            let added: Vec<u32> = (0..2).map(|_| rng.below(n) as u32).collect();
-            let removed: Vec<u32> = (0..2).map(|_| rng.below(n) as u32).collect();
-            let inc = base.with_delta(&foon, &added, &removed).unwrap();
-            let new = changed_kitchen(&kitchen, &added, &removed);
-            let fresh = Prepared::with_base(&foon, base.base().clone(), &new).unwrap();
             // Every third look at the callback cancels.
             let calls = AtomicU64::new(rng.below(3) as u64);
             let cancel = || calls.fetch_add(1, Ordering::Relaxed) % 3 == 0;
