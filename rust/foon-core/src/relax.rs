@@ -86,9 +86,11 @@ struct Local {
 }
 
 /// The values the pass changed: in a hash map (marked by one bit per object) while they are
-/// few, in an array over every object once they pass [`DENSE_FROM`] (one read per look-up;
-/// its zeroed pages cost nothing until touched, so it costs memory in proportion to the part
-/// of the FOON the pass reaches).
+/// few, in an array over every object once they pass a share of the FOON ([`DENSE_SHARE`]:
+/// one read per look-up). The array's zeroed pages cost nothing until touched, but a pass
+/// touches objects all over it, so it is taken only where the changed column will be written
+/// out whole anyway (`layered.rs`): a pending update that is kept costs memory in proportion
+/// to what it changed.
 struct Changed {
     /// One bit per object: whether it is present (read first: it stays in the caches).
     bits: Vec<u64>,
@@ -126,10 +128,12 @@ fn dense_mut(words: &mut [u8]) -> &mut [[u64; 3]] {
     bytemuck::cast_slice_mut(words)
 }
 
-/// A pass that changes more than this many objects (or one in `DENSE_SHARE` of the FOON)
-/// keeps them in an array.
-const DENSE_FROM: usize = 4096;
-const DENSE_SHARE: usize = 256;
+/// A pass that changes more than one object in `DENSE_SHARE` of the FOON (and more than
+/// `DENSE_FROM`) keeps them in an array: the share at which a changed column is written out
+/// whole. (The unit tests' FOONs are small: they take the array from 4 objects, so that both
+/// ways run.)
+const DENSE_FROM: usize = if cfg!(test) { 4 } else { 4096 };
+const DENSE_SHARE: usize = 16;
 
 impl Changed {
     fn new(n: usize) -> Self {
