@@ -31,6 +31,12 @@
 //! holds for it, and then so does every object of its tree (each strictly below it): a plan
 //! can be read before the pass has run to the end.
 //!
+//! **Levels.** For the same reason every object queued at the least key is final at once:
+//! the pass settles them together and computes each unit they are needed by once, in unit
+//! order (a unit two of them are needed by is not computed twice, and the units' rows are
+//! read in memory order). The final values do not depend on the order of the offers (the
+//! choice is the least of them in (value, depth, producer) order).
+//!
 //! The pass keeps the values it changed apart (a hash map, marked by one bit per object) and
 //! reads every other value from the values before the change, so it costs what it reaches:
 //! O((A + L) log A) plus the needed and output slots of the units it reaches, for A affected
@@ -247,9 +253,10 @@ impl Changed {
     }
 }
 
-/// How often a pass calls its `stop` callback: every `STOP_EVERY` objects (every object in
-/// the unit tests, so that they stop passes anywhere).
-const STOP_EVERY: u32 = if cfg!(test) { 1 } else { 4096 };
+/// How often a pass calls its `stop` callback: when it starts to run and then after every
+/// `STOP_EVERY` objects, between two levels (every level in the unit tests, so that they stop
+/// passes anywhere).
+const STOP_EVERY: usize = if cfg!(test) { 1 } else { 4096 };
 
 /// How far [`Relax::advance`] went.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -271,6 +278,10 @@ pub(crate) struct Relax {
     /// Objects settled that were not affected (lowered, or offered a tie).
     lowered: usize,
     end: bool,
+    /// The objects of the level being settled, and the units they are needed by (kept to
+    /// be reused).
+    level: Vec<u32>,
+    units: Vec<u32>,
 }
 
 impl Relax {
@@ -292,6 +303,8 @@ impl Relax {
             affected: Vec::new(),
             lowered: 0,
             end: false,
+            level: Vec::new(),
+            units: Vec::new(),
         };
         let none = Slot {
             cost: f64::INFINITY,
@@ -387,8 +400,8 @@ impl Relax {
         }
     }
 
-    /// Runs the pass until `goal` is settled (to the end with `None`), calling `stop` every
-    /// few thousand settled objects (its error stops the pass where it is, to be run again
+    /// Runs the pass until `goal` is settled (to the end with `None`), a level of equal keys
+    /// at a time, calling `stop` as it starts and every few thousand settled objects (its error stops the pass where it is, to be run again
     /// later). Stops with [`Reached::TooFar`] once more than `limit` objects that were not
     /// affected have been settled.
     pub(crate) fn advance<R: Rules>(
@@ -403,52 +416,76 @@ impl Relax {
         if self.end {
             return Ok(Reached::End);
         }
-        let mut until_stop = STOP_EVERY;
+        // Objects to settle before `stop` is next called (a level at a time: between two
+        // levels, so that a stopped pass goes on where it stopped).
+        let mut until_stop = 1;
         loop {
             if let Some(g) = goal
                 && self.is_settled(rules, g)
             {
                 return Ok(Reached::Settled);
             }
-            // Between two objects, so that a stopped pass goes on where it stopped.
-            until_stop -= 1;
-            if until_stop == 0 {
+            if until_stop <= 1 {
                 until_stop = STOP_EVERY;
                 stop()?;
             }
-            let Some(Entry {
-                cost,
-                depth,
-                obj: o,
-            }) = self.queue.pop()
-            else {
+            let Some(first) = self.queue.pop() else {
                 break;
             };
-            let Some(l) = self.local_of(o) else { continue };
-            if l.mark & DONE != 0
-                || (l.slot.cost.to_bits(), l.slot.depth) != (cost.to_bits(), depth)
+            // Every queued object at the least key is final at once (an offer is strictly
+            // above each input's key): they are settled together, and the units they are
+            // needed by computed once each, in unit order.
+            let mut level = std::mem::take(&mut self.level);
+            level.clear();
+            let (cost, depth) = (first.cost, first.depth);
+            let mut next = Some(first);
+            while let Some(Entry {
+                cost: c,
+                depth: d,
+                obj: o,
+            }) = next
             {
-                continue;
-            }
-            let mark = l.mark | DONE;
-            self.set_mark(o, l.slot, mark);
-            if mark & AFFECTED == 0 {
-                self.lowered += 1;
-                if self.lowered > limit {
-                    return Ok(Reached::TooFar);
+                if let Some(l) = self.local_of(o)
+                    && l.mark & DONE == 0
+                    && (l.slot.cost.to_bits(), l.slot.depth) == (c.to_bits(), d)
+                {
+                    self.set_mark(o, l.slot, l.mark | DONE);
+                    if l.mark & AFFECTED == 0 {
+                        self.lowered += 1;
+                        if self.lowered > limit {
+                            return Ok(Reached::TooFar);
+                        }
+                    }
+                    level.push(o);
                 }
+                next = match self.queue.peek() {
+                    Some(t) if !lower(cost, depth, t.cost, t.depth) => self.queue.pop(),
+                    _ => None,
+                };
             }
-            for &f in prep.needed_by(o) {
+            until_stop = until_stop.saturating_sub(level.len());
+            let mut units = std::mem::take(&mut self.units);
+            units.clear();
+            for &o in &level {
+                units.extend_from_slice(prep.needed_by(o));
+            }
+            if level.len() > 1 {
+                units.sort_unstable();
+                units.dedup();
+            }
+            for &f in &units {
                 let Some((c, d)) = self.unit(prep, rules, f) else {
                     continue;
                 };
                 for &y in foon.outputs(f) {
-                    if rules.is_leaf(y) || prep.is_bare(y) || self.mark(y) & DONE != 0 {
+                    if rules.is_leaf(y) || prep.is_bare(y) {
                         continue;
                     }
                     self.offer(rules, y, f, c, d);
                 }
             }
+            self.level = level;
+            self.units = units;
         }
         // Affected objects never reached have no value.
         for i in 0..self.affected.len() {
@@ -484,7 +521,8 @@ impl Relax {
 
     /// Heap bytes held by the pass.
     pub(crate) fn heap_bytes(&self) -> usize {
-        self.local.heap_bytes() + 4 * self.affected.capacity()
+        self.local.heap_bytes()
+            + 4 * (self.affected.capacity() + self.level.capacity() + self.units.capacity())
     }
 
     #[inline]
@@ -554,12 +592,13 @@ impl Relax {
     }
 
     /// Offers `y` the value (`c`, `d`) of unit `f`: kept when it beats `y`'s current one
-    /// (queued when strictly lower).
+    /// (queued when strictly lower); a settled `y` keeps its value.
     #[inline]
     fn offer<R: Rules>(&mut self, rules: &R, y: u32, f: u32, c: f64, d: u32) {
         let (old, mark) = match self.local_of(y) {
+            Some(l) if l.mark & DONE != 0 => return,
             Some(l) => (l.slot, l.mark),
-            None => (self.get(rules, y), 0),
+            None => (rules.before(y), 0),
         };
         let wins = if R::CHOICES {
             better(c, d, f, old.cost, old.depth, old.choice)
