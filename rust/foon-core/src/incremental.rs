@@ -852,6 +852,53 @@ mod tests {
         }
     }
 
+    /// A batch of plans on several threads runs to the end the pending updates its method
+    /// reads, and only those: the shopping costs of explanations, and the optimum of an
+    /// optimal method (a batch of `ids` leaves the optimal objectives pending). The plans are
+    /// those from scratch either way.
+    #[test]
+    fn batches_finish_what_they_read() {
+        use crate::search::batch::{BatchOptions, plan_batch};
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut kept = 0;
+        for _ in 0..60 {
+            let added = |rng: &mut Rng, n: usize| (0..3).map(|_| rng.below(n) as u32).collect();
+            let (foon, inc, fresh) = delta_case(&mut rng, 0.5, added, |_, _| Vec::new());
+            let pending = |o| inc.has_pending(o);
+            let before = Objective::ALL.map(pending);
+            let goals: Vec<u32> = (0..foon.object_count() as u32).collect();
+            let opts = BatchOptions::threads(Some(2));
+            for method in [Method::Ids, Method::OptimalUnits] {
+                let q = Query {
+                    method,
+                    ..Query::default()
+                };
+                let a = plan_batch(&foon, &inc, &goals, q, &opts).unwrap();
+                let b = plan_batch(&foon, &fresh, &goals, q, &opts).unwrap();
+                for (x, y) in a.iter().zip(&b) {
+                    assert_eq!(
+                        (&x.units, x.solved, x.cost.map(f64::to_bits)),
+                        (&y.units, y.solved, y.cost.map(f64::to_bits))
+                    );
+                }
+                // Sound plans explain the goals the kitchen cannot make.
+                let read = |o| {
+                    o == Objective::Shopping
+                        || (method == Method::OptimalUnits && o == Objective::Units)
+                };
+                for (i, o) in Objective::ALL.into_iter().enumerate() {
+                    if read(o) {
+                        assert!(!pending(o), "{method:?} left {o:?} pending");
+                    } else if before[i] {
+                        assert!(pending(o), "{method:?} ran {o:?}, which it does not read");
+                        kept += 1;
+                    }
+                }
+            }
+        }
+        assert!(kept > 20, "only {kept} updates were pending");
+    }
+
     /// Plans cancelled while they run an update (the update stops between two objects) and
     /// asked again give the plans from scratch: a stopped update goes on where it stopped.
     #[test]

@@ -534,9 +534,20 @@ impl Prepared {
         foon: &Foon,
         stop: &(dyn Fn() -> Result<()> + Sync),
     ) -> Result<()> {
+        self.finish_pending_of(foon, &Objective::ALL, stop)
+    }
+
+    /// Runs the pending updates of `objectives` to the end, at once on the core's pool.
+    pub(crate) fn finish_pending_of(
+        &self,
+        foon: &Foon,
+        objectives: &[Objective],
+        stop: &(dyn Fn() -> Result<()> + Sync),
+    ) -> Result<()> {
         use rayon::prelude::*;
-        let todo: Vec<Objective> = Objective::ALL
-            .into_iter()
+        let todo: Vec<Objective> = objectives
+            .iter()
+            .copied()
             .filter(|&o| self.has_pending(o))
             .collect();
         match todo.len() {

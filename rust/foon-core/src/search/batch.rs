@@ -23,10 +23,10 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
-use super::{Context, Plan, Query, SharedOptions};
+use super::{Compat, Context, Method, Plan, Query, SharedOptions};
 use crate::error::{Error, Result};
 use crate::index::Foon;
-use crate::prepare::Prepared;
+use crate::prepare::{Objective, Prepared};
 
 /// The environment variable that gives the default thread count.
 pub const THREADS_ENV: &str = "FOON_THREADS";
@@ -214,9 +214,18 @@ pub fn plan_batch(
             .collect();
     }
     // Shared by every search: computed once, before the workers start (the updates of a
-    // kitchen derived by a delta run to the end, not goal by goal under their locks).
+    // kitchen derived by a delta that the plans read run to the end, not goal by goal under
+    // their locks: the method's optimum, `optimal-shared`'s any, and the shopping costs of
+    // explanations of sound plans).
     let _ = ctx.ranks();
-    prep.finish_all_pending(foon, &|| ctx.check_stop())?;
+    let mut reads: Vec<Objective> = match query.method {
+        Method::OptimalShared => Objective::ALL.to_vec(),
+        m => m.objective().into_iter().collect(),
+    };
+    if query.compat == Compat::Sound {
+        reads.push(Objective::Shopping);
+    }
+    prep.finish_pending_of(foon, &reads, &|| ctx.check_stop())?;
     let slots: Vec<OnceLock<Result<Plan>>> = goals.iter().map(|_| OnceLock::new()).collect();
     let next = AtomicUsize::new(0);
     // The index of the first goal that failed: goals after it are not started.

@@ -31,11 +31,8 @@ use crate::prepare::{Objective, Optimum};
 /// The kitchen's optimum of an optimal method, when plans read it (`optimal::plan`): not from
 /// scratch, and for `optimal-success` only when every motion has a rate.
 fn prepared<'c>(ctx: &'c Context<'_>, method: Method) -> Result<Option<&'c Optimum>> {
-    let objective = match method {
-        Method::OptimalSuccess => Objective::Success,
-        Method::OptimalUnits => Objective::Units,
-        Method::OptimalInputs => Objective::Inputs,
-        _ => return Ok(None),
+    let Some(objective) = method.objective() else {
+        return Ok(None);
     };
     if ctx.is_from_scratch() || (objective == Objective::Success && !ctx.all_rated()) {
         return Ok(None);

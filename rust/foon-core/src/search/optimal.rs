@@ -517,11 +517,8 @@ fn optimum_at<'c>(ctx: &'c Context<'_>, objective: Objective, goal: u32) -> Resu
 }
 
 pub(super) fn plan(ctx: &Context<'_>, goal: u32, query: Query) -> Result<Plan> {
-    let objective = match query.method {
-        Method::OptimalSuccess => Objective::Success,
-        Method::OptimalUnits => Objective::Units,
-        _ => Objective::Inputs,
-    };
+    // (Called for the three optimal methods alone.)
+    let objective = query.method.objective().unwrap_or(Objective::Inputs);
     // Without a rate for every motion, which FUs are weighed (and so which missing rate is
     // the error) depends on the goal: search from it.
     let shared = !ctx.is_from_scratch() && (objective != Objective::Success || ctx.all_rated());

@@ -4,6 +4,7 @@
 use std::str::FromStr;
 
 use crate::error::{Error, Result};
+use crate::prepare::Objective;
 
 /// A planning method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -40,6 +41,17 @@ impl Method {
             Self::OptimalUnits => "optimal-units",
             Self::OptimalInputs => "optimal-inputs",
             Self::OptimalShared => "optimal-shared",
+        }
+    }
+
+    /// The objective whose per-kitchen optimum sound plans of this optimal method read
+    /// (`optimal-shared` reads those of the methods it bounds with: `search::shared`).
+    pub(crate) fn objective(self) -> Option<Objective> {
+        match self {
+            Self::OptimalSuccess => Some(Objective::Success),
+            Self::OptimalUnits => Some(Objective::Units),
+            Self::OptimalInputs => Some(Objective::Inputs),
+            _ => None,
         }
     }
 
