@@ -94,12 +94,14 @@ def test_chunking_and_threads_change_nothing(
 
 
 def count_plans(monkeypatch: pytest.MonkeyPatch) -> list[list[str]]:
-    """Every chunk ``plan_table`` is called with (its query ids), from now on."""
+    """Every chunk ``plan_table`` is called with (its query ids), from now on (not the call
+    on no rows that checks the settings)."""
     calls: list[list[str]] = []
     real = _arrow.plan_table
 
     def counting(f: Any, ks: Any, queries: Any, **kw: Any) -> Any:
-        calls.append(queries.column("query_id").to_pylist())
+        if queries.num_rows:
+            calls.append(queries.column("query_id").to_pylist())
         return real(f, ks, queries, **kw)
 
     monkeypatch.setattr(_arrow, "plan_table", counting)
@@ -208,6 +210,40 @@ def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
     p = folder / "queries.txt"
     p.write_text("")
     cases.append((p, "unknown query file type '.txt'"))
+    # Bytes that are not UTF-8, late in a file (past the first chunk), in any column.
+    raw = [x.encode() for x in jl]
+    p = folder / "latin1_goal.jsonl"
+    bad = b'{"query_id": "x", "kitchen_id": "full", "goal": "caf\xe9", "method": "ids"}\n'
+    p.write_bytes(b"".join([*raw[:500], bad, *raw[500:]]))
+    cases.append((p, "latin1_goal.jsonl:501:53: not UTF-8"))
+    p = folder / "latin1_id.jsonl"
+    p.write_bytes(b'{"query_id": "a\xe9", "kitchen_id": "k", "goal": "g", "method": "ids"}\n')
+    cases.append((p, "latin1_id.jsonl:1:16: not UTF-8"))
+    p = folder / "latin1.csv"
+    csv_raw = data.csv.read_bytes().splitlines(keepends=True)
+    p.write_bytes(b"".join([*csv_raw[:300], b"q,full,caf\xe9,ids,\n", *csv_raw[300:]]))
+    cases.append((p, "latin1.csv:301:11: not UTF-8"))
+    p = folder / "latin1.parquet"
+    goals = pa.array([b"caf\xe9"] * t.num_rows, pa.binary()).cast(pa.string(), safe=False)
+    pq.write_table(t.set_column(2, "goal", goals), p)
+    cases.append((p, "latin1.parquet: rows 1-"))
+    # A column given twice; a row without an id (null after blank lines, or empty).
+    p = folder / "twice.csv"
+    p.write_text("query_id,kitchen_id,goal,method,query_id\nq1,full,x,ids,q1\n")
+    cases.append((p, "the column 'query_id' twice"))
+    p = folder / "blank_null_id.jsonl"
+    p.write_text(
+        '\n\n{"query_id": "a", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+        '{"query_id": null, "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+    )
+    cases.append((p, "blank_null_id.jsonl:4:1: the query has no query_id"))
+    p = folder / "empty_id.jsonl"
+    empty = '{"query_id": "", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+    p.write_text("".join([*jl[:30], empty]))
+    cases.append((p, "empty_id.jsonl:31:1: the query has no query_id"))
+    p = folder / "empty_id.csv"
+    p.write_text("query_id,kitchen_id,goal,method\nq1,full,x,ids\n,full,x,ids\n")
+    cases.append((p, "empty_id.csv:3: the query has no query_id"))
     return cases
 
 
@@ -223,6 +259,146 @@ def test_bad_files_are_errors_before_any_output(data: Data, tmp_path: Path) -> N
         foon.batch(tmp_path / "none.csv", foon=data.index, kitchens=data.kitchens,
                    out=tmp_path / "o")  # fmt: skip
     assert not (tmp_path / "o").exists()
+
+
+def test_settings_are_checked_before_any_output(data: Data, tmp_path: Path) -> None:
+    for rate in (2.0, -0.5, float("nan")):
+        with pytest.raises(ValueError, match="default rate"):
+            run(data, tmp_path / "o", default_rate=rate)
+        assert not (tmp_path / "o").exists()
+
+
+def test_arguments_are_checked(data: Data, tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="engine='dask'"):
+        run(data, tmp_path / "o", scheduler="tcp://127.0.0.1:1")
+    with pytest.raises(ValueError, match="engine='dask'"):
+        run(data, tmp_path / "o", client=object())
+    with pytest.raises(TypeError, match="resume"):
+        run(data, tmp_path / "o", resume="no")
+    with pytest.raises(TypeError, match="progress"):
+        run(data, tmp_path / "o", progress="yes")
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_column_of_nulls_is_bad_rows(data: Data, tmp_path: Path) -> None:
+    t = data.table.slice(0, 20)
+    p = tmp_path / "null_goal.parquet"
+    pq.write_table(t.set_column(2, "goal", pa.nulls(t.num_rows)), p)
+    s = foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o")
+    got = read_parts(tmp_path / "o")
+    assert got.column("query_id").to_pylist() == t.column("query_id").to_pylist()
+    # Every row is bad: its goal (unless its kitchen or method, checked first, is).
+    assert s.solved == 0 and sum(s.failures.values()) == 20
+    assert s.failures["bad-goal"] >= 15
+    assert set(s.failures) <= {"bad-goal", "unknown-kitchen", "unknown-method"}
+
+
+def test_a_large_csv_with_line_breaks_in_quoted_fields(data: Data, tmp_path: Path) -> None:
+    import csv
+
+    from batch_files import query_schema
+
+    # Goals written as indented JSON, over several blocks of the CSV reader (1 MiB each).
+    rows: list[dict[str, Any]] = []
+    while sum(len(r["goal"]) for r in rows) < (3 << 20):
+        for r in data.rows:
+            g = r["goal"]
+            if g.startswith("{"):
+                g = json.dumps(json.loads(g), indent=1)
+            rows.append(dict(r, query_id=f"{r['query_id']}-{len(rows)}", goal=g))
+    p = tmp_path / "multiline.csv"
+    with open(p, "w", encoding="utf-8", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    assert p.stat().st_size > (3 << 20)
+    s = foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o",
+                   motions=data.motions, chunk_size=4096)  # fmt: skip
+    table = pa.Table.from_pylist(rows, schema=query_schema())
+    want = _arrow.plan_table(data.foon, data.kitchens, table, motions=data.motions)
+    assert s.queries == len(rows)
+    assert read_parts(tmp_path / "o").equals(want)
+
+
+def test_overwrite_removes_only_the_batchs_files(data: Data, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    out.mkdir()
+    theirs = {"part-mydata.parquet": b"theirs", ".part-notes.tmp": b"notes", "x.txt": b"x",
+              "part-0001.parquet": b"four digits"}  # fmt: skip
+    for name, content in theirs.items():
+        (out / name).write_bytes(content)
+    (out / "part-00007.parquet").write_bytes(b"a batch's name")
+    (out / ".part-00003.parquet.k2_x9.tmp").write_bytes(b"a batch's temporary file")
+    run(data, out, resume=False)
+    names = set(os.listdir(out))
+    assert names == {*theirs, _batch.MANIFEST, *(f"part-0000{k}.parquet" for k in range(5))}
+    assert all((out / n).read_bytes() == c for n, c in theirs.items())
+    # A query file that is one of the files a batch writes there is never replaced.
+    q = out / "part-00000.parquet"
+    pq.write_table(data.table, q)
+    before = q.read_bytes()
+    with pytest.raises(ValueError, match="one of the files a batch writes"):
+        foon.batch(q, foon=data.index, kitchens=data.kitchens, out=out, resume=False)
+    assert q.read_bytes() == before
+
+
+@pytest.mark.parametrize("edit", ["list", "no inputs", "entry", "file"])
+def test_a_manifest_of_another_shape_is_an_error(data: Data, tmp_path: Path, edit: str
+                                                 ) -> None:  # fmt: skip
+    out = tmp_path / "out"
+    run(data, out)
+    m = manifest(out)
+    if edit == "list":
+        m["partitions"] = []
+    elif edit == "no inputs":
+        m["inputs"] = []
+    elif edit == "entry":
+        m["partitions"]["00001"] = "part-00001.parquet"
+    else:
+        m["partitions"]["00001"]["file"] = "../elsewhere.parquet"
+    (out / _batch.MANIFEST).write_text(json.dumps(m))
+    with pytest.raises(FileExistsError, match="not a batch's"):
+        run(data, out)
+    assert run(data, out, resume=False).planned_partitions == 5
+
+
+def test_a_query_file_that_grows_during_the_run(data: Data, tmp_path: Path) -> None:
+    p = tmp_path / "q.jsonl"
+    original = data.jsonl.read_bytes()
+    p.write_bytes(original)
+
+    def grow(done: int, total: int) -> None:
+        if done == 128:
+            with open(p, "ab") as f:
+                f.write(original[: original.index(b"\n") + 1] * 300)
+
+    out = tmp_path / "out"
+    with pytest.raises(ValueError, match="changed while the batch ran"):
+        foon.batch(p, foon=data.index, kitchens=data.kitchens, out=out, chunk_size=128,
+                   threads=1, progress=grow, motions=data.motions)  # fmt: skip
+    m = manifest(out)
+    assert m["inputs"]["rows"] == len(data.rows)
+    assert sum(e["rows"] for e in m["partitions"].values()) == len(data.rows)
+    # Back to the file that was checked: every partition is kept.
+    p.write_bytes(original)
+    s = foon.batch(p, foon=data.index, kitchens=data.kitchens, out=out, chunk_size=128,
+                   motions=data.motions)  # fmt: skip
+    assert (s.planned_partitions, s.kept_partitions) == (0, 5)
+
+
+def test_partition_names_sort_as_their_numbers() -> None:
+    ks = [0, 7, 99_999, 100_000, 100_001, 999_999, 1_000_000, 12_345_678, 10**12]
+    names = [_batch.part_name(k) for k in ks]
+    assert names[:4] == ["part-00000.parquet", "part-00007.parquet", "part-99999.parquet",
+                         "part-z100000.parquet"]  # fmt: skip
+    assert sorted(names) == names and len(set(names)) == len(names)
+    assert sorted(_batch.part_key(k) for k in reversed(ks)) == [_batch.part_key(k) for k in ks]
+
+
+def test_a_huge_chunk_size_is_one_partition(data: Data, whole: Any, tmp_path: Path) -> None:
+    s = run(data, tmp_path / "o", chunk_size=2**63)
+    assert s.partitions == 1
+    assert read_parts(tmp_path / "o").equals(whole)
 
 
 def test_integer_ids_and_goal_objects_in_json_lines(data: Data, whole: Any, tmp_path: Path

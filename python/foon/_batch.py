@@ -24,12 +24,13 @@ import hashlib
 import io
 import json
 import os
+import re
 import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeGuard
 
 if TYPE_CHECKING:
     import threading
@@ -173,6 +174,9 @@ def _check_schema(path: str, schema: pa.Schema) -> None:
     import pyarrow as pa
 
     names = schema.names
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"{path}: the query table has the column '{twice[0]}' twice")
     for name in _REQUIRED:
         if name not in names:
             raise ValueError(
@@ -200,11 +204,18 @@ def _select(batch: pa.RecordBatch) -> pa.RecordBatch:
 
 def _null_ids(path: str, batch: pa.RecordBatch, first_row: int, line_of: Callable[[int], int]
               ) -> None:  # fmt: skip
-    col = batch.column("query_id")
-    if col.null_count:
-        import pyarrow.compute as pc  # type: ignore[import-untyped]
+    """A row without a query id (null, or an empty string) is an error naming its line."""
+    import pyarrow as pa
+    import pyarrow.compute as pc  # type: ignore[import-untyped]
 
-        i = int(pc.index(col.is_null(), True).as_py())
+    col = batch.column("query_id")
+    missing = col.is_null()
+    if pa.types.is_dictionary(col.type):
+        col = col.cast(col.type.value_type)
+    if pa.types.is_string(col.type) or pa.types.is_large_string(col.type):
+        missing = pc.or_(missing, pc.fill_null(pc.equal(pc.utf8_length(col), 0), False))
+    if pc.any(missing).as_py():
+        i = int(pc.index(missing, True).as_py())
         raise ValueError(f"{path}:{line_of(first_row + i)}: the query has no query_id")
 
 
@@ -220,7 +231,8 @@ def _parquet_batches(path: str, rows: int, use_threads: bool) -> Iterator[pa.Rec
         cols = [c for c in ("query_id", "kitchen_id", "goal", "method", "options")
                 if c in f.schema_arrow.names]  # fmt: skip
         try:
-            yield from f.iter_batches(batch_size=rows, columns=cols, use_threads=use_threads)
+            yield from f.iter_batches(batch_size=min(rows, _JSON_BLOCK * 64), columns=cols,
+                                      use_threads=use_threads)  # fmt: skip
         except OSError as e:
             raise ValueError(f"{path}: {e}") from None
 
@@ -230,6 +242,12 @@ def _csv_line_error(path: str) -> str | None:
     the ``csv`` module when pyarrow's reader has refused it."""
     import csv
 
+    with open(path, "rb") as raw:
+        for line, text in enumerate(raw, 1):
+            try:
+                text.decode("utf-8")
+            except UnicodeDecodeError as e:
+                return f"{path}:{line}:{e.start + 1}: not UTF-8"
     with open(path, encoding="utf-8", newline="") as f:
         reader = csv.reader(f)
         try:
@@ -259,6 +277,8 @@ def _csv_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
         reader = pcsv.open_csv(
             path,
             read_options=pcsv.ReadOptions(block_size=1 << 20, use_threads=use_threads),
+            # Quoted fields may hold line breaks (a goal written as indented JSON).
+            parse_options=pcsv.ParseOptions(newlines_in_values=True),
             convert_options=pcsv.ConvertOptions(
                 column_types=text, strings_can_be_null=False, quoted_strings_can_be_null=False
             ),
@@ -310,6 +330,8 @@ def _json_block_slow(path: str, lines: list[bytes], first_line: int) -> pa.Recor
         for name in _REQUIRED:
             if name not in obj:
                 raise ValueError(f"{path}:{line}:1: the query has no '{name}'")
+        if obj["query_id"] in (None, ""):
+            raise ValueError(f"{path}:{line}:1: the query has no query_id")
         for name, values in cols.items():
             values.append(_json_value(path, line, obj, name))
     return pa.RecordBatch.from_pydict(cols, schema=_json_schema())
@@ -324,6 +346,7 @@ def _json_schema() -> pa.Schema:
 
 def _json_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
     import pyarrow as pa
+    import pyarrow.compute as pc
     import pyarrow.json as pjson  # type: ignore[import-untyped]
 
     opts = pjson.ParseOptions(explicit_schema=_json_schema(), unexpected_field_behavior="ignore")
@@ -336,14 +359,21 @@ def _json_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
                 return
             block = b"".join(x if x.endswith(b"\n") else x + b"\n" for x in lines)
             try:
+                # pyarrow's reader takes bytes that are not UTF-8 as they are: checked here.
+                block.decode("utf-8")
                 t = pjson.read_json(io.BytesIO(block), parse_options=opts, read_options=reads)
-                # Missing keys, integer ids, goals as objects, blank lines: line by line.
-                if t.num_rows != len(lines) or any(t.column(c).null_count for c in _REQUIRED):
+                # Missing keys, integer ids, goals as objects, blank lines, empty ids: line by
+                # line.
+                if (
+                    t.num_rows != len(lines)
+                    or any(t.column(c).null_count for c in _REQUIRED)
+                    or pc.any(pc.equal(pc.utf8_length(t.column("query_id")), 0)).as_py()
+                ):
                     raise pa.ArrowInvalid("not plain")
                 out = pa.RecordBatch.from_arrays(
                     [t.column(c).combine_chunks() for c in t.column_names], schema=t.schema
                 )
-            except pa.ArrowInvalid:
+            except (pa.ArrowInvalid, UnicodeDecodeError):
                 out = _json_block_slow(path, lines, line)
             yield out
             line += len(lines)
@@ -380,23 +410,39 @@ def _line_mapper(kind: str) -> Callable[[int], int]:
 
 def scan_queries(path: str, *, use_threads: bool = True) -> int:
     """Reads the whole query file once, checking it; returns its row count."""
-    kind = _format_of(os.fspath(path))
+    import pyarrow as pa
+
+    path = os.fspath(path)
+    kind = _format_of(path)
     n = 0
     for b in read_queries(path, use_threads=use_threads):
-        _check_schema(os.fspath(path), b.schema)
-        _null_ids(os.fspath(path), b, n, _line_mapper(kind))
+        _check_schema(path, b.schema)
+        if kind == "parquet":
+            # Strings that are not UTF-8 (the text readers check their bytes themselves).
+            try:
+                b.validate(full=True)
+            except pa.ArrowInvalid as e:
+                raise ValueError(f"{path}: rows {n + 1}-{n + b.num_rows}: {e}") from None
+        _null_ids(path, b, n, _line_mapper(kind))
         n += b.num_rows
     return n
 
 
-def chunks(path: str, size: int, *, use_threads: bool = True) -> Iterator[tuple[int, pa.Table]]:
-    """``(k, table)``: the query rows of partition ``k``, ``size`` rows each but the last."""
+def chunks(
+    path: str, size: int, *, use_threads: bool = True, rows: int | None = None
+) -> Iterator[tuple[int, pa.Table]]:
+    """``(k, table)``: the query rows of partition ``k``, ``size`` rows each but the last
+    (of the first ``rows`` rows of the file, when given)."""
     import pyarrow as pa
 
     pending: list[pa.RecordBatch] = []
     have = 0
     k = 0
+    left = rows
     for b in read_queries(path, size, use_threads=use_threads):
+        if left is not None:
+            b = b.slice(0, left)
+            left -= b.num_rows
         while b.num_rows:
             take = min(size - have, b.num_rows)
             pending.append(b.slice(0, take))
@@ -416,6 +462,10 @@ def _normalise(t: pa.Table) -> pa.Table:
 
     if not pa.types.is_string(t.schema.field("query_id").type):
         t = t.set_column(0, "query_id", t.column("query_id").cast(pa.string()))
+    # A column of nulls alone (Arrow type null): every row lacks it (a bad row each).
+    for i, col in enumerate(t.schema):
+        if pa.types.is_null(col.type):
+            t = t.set_column(i, col.name, t.column(i).cast(pa.string()))
     return t.combine_chunks()
 
 
@@ -488,8 +538,11 @@ def _write_json(folder: str, name: str, data: dict[str, Any]) -> None:
 
 
 def part_key(k: int) -> str:
-    """Partition ``k``'s key in the manifest."""
-    return f"{k:05d}"
+    """Partition ``k``'s key in the manifest (and in its file's name): five digits, and from
+    100,000 on the digits after one ``z`` per digit beyond five, so that the keys (and the
+    file names) sort as the numbers do: ``99999`` < ``z100000`` < ``zz1000000``."""
+    digits = str(k)
+    return digits.zfill(5) if len(digits) <= 5 else "z" * (len(digits) - 5) + digits
 
 
 def part_name(k: int) -> str:
@@ -516,12 +569,16 @@ def write_partition(folder: str, k: int, table: pa.Table) -> dict[str, Any]:
     }
 
 
+#: The names of the files a batch writes in its output folder (the manifest, partitions,
+#: and the temporary files of both while they are written): the only files it removes.
+_OURS = re.compile(
+    r"_manifest\.json|part-z*[0-9]{5,}\.parquet"
+    r"|\.(?:_manifest\.json|part-z*[0-9]{5,}\.parquet)\.[A-Za-z0-9_-]+\.tmp"
+)
+
+
 def _is_ours(name: str) -> bool:
-    return (
-        name == MANIFEST
-        or (name.startswith("part-") and name.endswith(".parquet"))
-        or (name.startswith((".part-", "." + MANIFEST + ".")) and name.endswith(".tmp"))
-    )
+    return _OURS.fullmatch(name) is not None
 
 
 def _clean(folder: str, everything: bool) -> None:
@@ -551,7 +608,7 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
                 old = json.load(f)
         except (OSError, ValueError):
             old = None
-        if not isinstance(old, dict) or old.get("format") != _FORMAT:
+        if not _is_manifest(old):
             raise FileExistsError(
                 f"{out}: holds a _manifest.json that is not a batch's (use --overwrite to "
                 "replace it)"
@@ -562,7 +619,7 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
                 f"{out}: holds the results of a batch with other inputs (differ: "
                 f"{', '.join(diff) or 'format'}); use --overwrite to replace them"
             )
-    elif any(n.startswith("part-") and n.endswith(".parquet") for n in os.listdir(out)):
+    elif any(_is_ours(n) and n.endswith(".parquet") for n in os.listdir(out)):
         raise FileExistsError(
             f"{out}: holds partitions but no _manifest.json; use --overwrite to replace them"
         )
@@ -573,6 +630,27 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
         if os.path.isfile(p) and _sha256(p) == entry.get("sha256"):
             kept[key] = entry
     return kept
+
+
+def _is_manifest(m: Any) -> TypeGuard[dict[str, Any]]:
+    """Whether ``m`` (a manifest file's JSON) has a batch manifest's shape."""
+    if not (isinstance(m, dict) and m.get("format") == _FORMAT):
+        return False
+    parts = m.get("partitions")
+    return (
+        isinstance(m.get("inputs"), dict)
+        and isinstance(parts, dict)
+        and all(
+            isinstance(e, dict)
+            and isinstance(e.get("file"), str)
+            and _is_ours(e["file"])
+            and isinstance(e.get("sha256"), str)
+            and isinstance(e.get("rows"), int)
+            and isinstance(e.get("solved"), int)
+            and isinstance(e.get("failures"), dict)
+            for e in parts.values()
+        )
+    )
 
 
 def _listed(out: str, key: str) -> bool:
@@ -630,6 +708,12 @@ def _count(t: pa.Table) -> tuple[int, dict[str, int]]:
     for item in vc.to_pylist():
         failures[str(item["values"])] = int(item["counts"])
     return solved, dict(sorted(failures.items()))
+
+
+def _empty_queries() -> pa.Table:
+    import pyarrow as pa
+
+    return pa.table({c: pa.array([], pa.string()) for c in _REQUIRED})
 
 
 def _native_foon(foon: Any) -> Foon:
@@ -806,13 +890,23 @@ def batch(
     the missing ones; ``resume=False`` replaces what is there. ``progress``: ``True`` draws
     a bar on stderr, a callable is called as ``progress(done_queries, total_queries)``
     after each partition. A bad query is a result row with its failure code; a bad input
-    file is an error (``ValueError``, ``FileNotFoundError``) before any output is
-    written."""
+    file is an error before any output is written: ``ValueError`` for the query file or the
+    settings (``FileNotFoundError`` when it is missing), :class:`foon.ParseError` for the
+    kitchen set file, ``FileExistsError`` for an output folder that holds another batch's
+    results (see docs/BATCH.md)."""
+    import threading
+
     import foon as _pkg
     from foon import _arrow
 
     if engine not in ("local", "dask"):
         raise ValueError(f"unknown engine {engine!r} (local or dask)")
+    if engine == "local" and (client is not None or scheduler is not None):
+        raise ValueError("client and scheduler are for engine='dask'")
+    if not isinstance(resume, bool):
+        raise TypeError(f"resume must be True or False, not {resume!r}")
+    if not (progress is None or isinstance(progress, bool) or callable(progress)):
+        raise TypeError(f"progress must be True, False, None or a callable, not {progress!r}")
     if chunk_size is None:
         chunk_size = DEFAULT_CHUNK_SIZE
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
@@ -824,6 +918,10 @@ def batch(
     opath = os.fspath(out)
     if isinstance(qpath, bytes) or isinstance(opath, bytes):
         raise TypeError("paths must be str")
+    if _is_ours(os.path.basename(qpath)) and os.path.realpath(
+        os.path.dirname(qpath) or "."
+    ) == os.path.realpath(opath):
+        raise ValueError(f"{qpath}: the query file is one of the files a batch writes in {opath}")
     f = _native_foon(foon)
     ks = _kitchen_set(kitchens)
     rates = _pkg._as_rates(motions)
@@ -839,6 +937,8 @@ def batch(
     # (Not when an earlier run's manifest lists that chunk: a resumed run plans only what is
     # missing.)
     # One thread asked for: one thread works at a time (pyarrow's readers included).
+    # The settings (a default rate out of range, ...): the core's check, on no rows.
+    plan(_empty_queries(), threading.Event())
     alone = engine == "local" and threads == 1
     ahead = 1 if threads == 1 else LOCAL_AHEAD
     early = engine == "local" and ahead > 1 and not (resume and _listed(opath, part_key(0)))
@@ -849,7 +949,7 @@ def batch(
             raise ValueError(
                 "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
             )
-        inputs = {
+        inputs: dict[str, Any] = {
             "index": f.fingerprint,
             "kitchens": ks.fingerprint,
             "queries": file_fingerprint(qpath),
@@ -906,7 +1006,7 @@ def batch(
 
     todo = (
         (k, t)
-        for k, t in chunks(qpath, chunk_size, use_threads=not alone)
+        for k, t in chunks(qpath, chunk_size, use_threads=not alone, rows=total)
         if part_key(k) not in kept
     )
     t0 = time.perf_counter()
@@ -947,6 +1047,10 @@ def batch(
     seconds = time.perf_counter() - t0
     if bar is not None:
         bar(done, total, True)
+    if os.stat(qpath).st_size != inputs["queries"]["size"]:
+        # Its rows were planned as they were when it was checked; its fingerprint is of that
+        # content, which a rerun will not find.
+        raise ValueError(f"{qpath}: the query file changed while the batch ran")
     if len(manifest["partitions"]) != n_parts:
         raise RuntimeError(
             f"{opath}: {n_parts - len(manifest['partitions'])} partitions were not written"
