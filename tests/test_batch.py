@@ -241,6 +241,9 @@ def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
     empty = '{"query_id": "", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
     p.write_text("".join([*jl[:30], empty]))
     cases.append((p, "empty_id.jsonl:31:1: the query has no query_id"))
+    p = folder / "open_quote.csv"
+    p.write_text('query_id,kitchen_id,goal,method\n\nq0,full,"a\nb",ids\nq1,full,"x,ids\n')
+    cases.append((p, "open_quote.csv:5:1: a quoted field is not closed"))
     p = folder / "empty_id.csv"
     p.write_text("query_id,kitchen_id,goal,method\nq1,full,x,ids\n,full,x,ids\n")
     cases.append((p, "empty_id.csv:3: the query has no query_id"))

@@ -249,20 +249,22 @@ def _csv_line_error(path: str) -> str | None:
             except UnicodeDecodeError as e:
                 return f"{path}:{line}:{e.start + 1}: not UTF-8"
     with open(path, encoding="utf-8", newline="") as f:
-        reader = csv.reader(f)
+        reader = csv.reader(f, strict=True)
+        start = 1  # the line the row being read starts on
         try:
             header = next(reader)
+            width = len(header)
+            start = reader.line_num + 1
+            for row in reader:
+                # (Blank lines are skipped, as pyarrow's reader does.)
+                if row and len(row) != width:
+                    return f"{path}:{start}:1: expected {width} fields, got {len(row)}"
+                start = reader.line_num + 1
         except StopIteration:
             return f"{path}:1:1: the CSV file is empty"
-        except (csv.Error, UnicodeDecodeError) as e:
-            return f"{path}:1:1: {e}"
-        try:
-            for row in reader:
-                if len(row) != len(header):
-                    return (
-                        f"{path}:{reader.line_num}:1: expected {len(header)} fields, got {len(row)}"
-                    )
-        except (csv.Error, UnicodeDecodeError) as e:
+        except csv.Error as e:
+            if "unexpected end of data" in str(e):
+                return f"{path}:{start}:1: a quoted field is not closed"
             return f"{path}:{reader.line_num}:1: {e}"
     return None
 
