@@ -175,6 +175,15 @@ def test_a_folder_of_other_partitions_is_left_alone(data: Data, tmp_path: Path) 
 def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
     """(file, the error it must give)."""
     cases: list[tuple[Path, str]] = []
+
+    def add(name: str, content: str | bytes, message: str) -> None:
+        p = folder / name
+        if isinstance(content, bytes):
+            p.write_bytes(content)
+        else:
+            p.write_text(content)
+        cases.append((p, message))
+
     t = data.table
     p = folder / "no_goal.parquet"
     pq.write_table(t.drop_columns(["goal"]), p)
@@ -187,66 +196,74 @@ def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
     ids[300] = None
     pq.write_table(t.set_column(0, "query_id", pa.array(ids, pa.string())), p)
     cases.append((p, ":301: the query has no query_id"))
-    p = folder / "not.parquet"
-    p.write_text("query_id,kitchen_id\n")
-    cases.append((p, "not a readable Parquet file"))
+    add("not.parquet", "query_id,kitchen_id\n", "not a readable Parquet file")
     lines = data.csv.read_text().splitlines(keepends=True)
-    p = folder / "short_row.csv"
-    p.write_text("".join([*lines[:400], '"q9","full"\n', *lines[400:]]))
-    cases.append((p, "short_row.csv:401:1: expected 5 fields, got 2"))
-    p = folder / "no_method.csv"
-    p.write_text("query_id,kitchen_id,goal\nq1,full,x\n")
-    cases.append((p, "no column 'method'"))
+    add(
+        "short_row.csv",
+        "".join([*lines[:400], '"q9","full"\n', *lines[400:]]),
+        "short_row.csv:401:1: expected 5 fields, got 2",
+    )
+    add("no_method.csv", "query_id,kitchen_id,goal\nq1,full,x\n", "no column 'method'")
     jl = data.jsonl.read_text().splitlines(keepends=True)
-    p = folder / "bad.jsonl"
-    p.write_text("".join([*jl[:450], '{"query_id": "x", "kitchen_id": }\n', *jl[450:]]))
-    cases.append((p, "bad.jsonl:451:33: Expecting value"))
-    p = folder / "no_kitchen.jsonl"
-    p.write_text("".join([*jl[:20], '{"query_id": "x", "goal": "g", "method": "ids"}\n']))
-    cases.append((p, "no_kitchen.jsonl:21:1: the query has no 'kitchen_id'"))
-    p = folder / "list_goal.jsonl"
-    p.write_text('{"query_id": "x", "kitchen_id": "k", "goal": [1], "method": "ids"}\n')
-    cases.append((p, "list_goal.jsonl:1: 'goal' must be a string"))
-    p = folder / "queries.txt"
-    p.write_text("")
-    cases.append((p, "unknown query file type '.txt'"))
+    add(
+        "bad.jsonl",
+        "".join([*jl[:450], '{"query_id": "x", "kitchen_id": }\n', *jl[450:]]),
+        "bad.jsonl:451:33: Expecting value",
+    )
+    add(
+        "no_kitchen.jsonl",
+        "".join([*jl[:20], '{"query_id": "x", "goal": "g", "method": "ids"}\n']),
+        "no_kitchen.jsonl:21:1: the query has no 'kitchen_id'",
+    )
+    add(
+        "list_goal.jsonl",
+        '{"query_id": "x", "kitchen_id": "k", "goal": [1], "method": "ids"}\n',
+        "list_goal.jsonl:1: 'goal' must be a string",
+    )
+    add("queries.txt", "", "unknown query file type '.txt'")
     # Bytes that are not UTF-8, late in a file (past the first chunk), in any column.
     raw = [x.encode() for x in jl]
-    p = folder / "latin1_goal.jsonl"
     bad = b'{"query_id": "x", "kitchen_id": "full", "goal": "caf\xe9", "method": "ids"}\n'
-    p.write_bytes(b"".join([*raw[:500], bad, *raw[500:]]))
-    cases.append((p, "latin1_goal.jsonl:501:53: not UTF-8"))
-    p = folder / "latin1_id.jsonl"
-    p.write_bytes(b'{"query_id": "a\xe9", "kitchen_id": "k", "goal": "g", "method": "ids"}\n')
-    cases.append((p, "latin1_id.jsonl:1:16: not UTF-8"))
-    p = folder / "latin1.csv"
+    add("latin1_goal.jsonl", b"".join([*raw[:500], bad, *raw[500:]]),
+        "latin1_goal.jsonl:501:53: not UTF-8")  # fmt: skip
+    add(
+        "latin1_id.jsonl",
+        b'{"query_id": "a\xe9", "kitchen_id": "k", "goal": "g", "method": "ids"}\n',
+        "latin1_id.jsonl:1:16: not UTF-8",
+    )
     csv_raw = data.csv.read_bytes().splitlines(keepends=True)
-    p.write_bytes(b"".join([*csv_raw[:300], b"q,full,caf\xe9,ids,\n", *csv_raw[300:]]))
-    cases.append((p, "latin1.csv:301:11: not UTF-8"))
+    add("latin1.csv", b"".join([*csv_raw[:300], b"q,full,caf\xe9,ids,\n", *csv_raw[300:]]),
+        "latin1.csv:301:11: not UTF-8")  # fmt: skip
     p = folder / "latin1.parquet"
     goals = pa.array([b"caf\xe9"] * t.num_rows, pa.binary()).cast(pa.string(), safe=False)
     pq.write_table(t.set_column(2, "goal", goals), p)
     cases.append((p, "latin1.parquet: rows 1-"))
     # A column given twice; a row without an id (null after blank lines, or empty).
-    p = folder / "twice.csv"
-    p.write_text("query_id,kitchen_id,goal,method,query_id\nq1,full,x,ids,q1\n")
-    cases.append((p, "the column 'query_id' twice"))
-    p = folder / "blank_null_id.jsonl"
-    p.write_text(
-        '\n\n{"query_id": "a", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
-        '{"query_id": null, "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+    add(
+        "twice.csv",
+        "query_id,kitchen_id,goal,method,query_id\nq1,full,x,ids,q1\n",
+        "the column 'query_id' twice",
     )
-    cases.append((p, "blank_null_id.jsonl:4:1: the query has no query_id"))
+    add(
+        "blank_null_id.jsonl",
+        '\n\n{"query_id": "a", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+        '{"query_id": null, "kitchen_id": "k", "goal": "g", "method": "ids"}\n',
+        "blank_null_id.jsonl:4:1: the query has no query_id",
+    )
     p = folder / "empty_id.jsonl"
     empty = '{"query_id": "", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
     p.write_text("".join([*jl[:30], empty]))
     cases.append((p, "empty_id.jsonl:31:1: the query has no query_id"))
-    p = folder / "open_quote.csv"
-    p.write_text('query_id,kitchen_id,goal,method\n\nq0,full,"a\nb",ids\nq1,full,"x,ids\n')
-    cases.append((p, "open_quote.csv:5:1: a quoted field is not closed"))
-    p = folder / "empty_id.csv"
-    p.write_text("query_id,kitchen_id,goal,method\nq1,full,x,ids\n,full,x,ids\n")
-    cases.append((p, "empty_id.csv:3: the query has no query_id"))
+    add(
+        "open_quote.csv",
+        'query_id,kitchen_id,goal,method\n\nq0,full,"a\nb",ids\nq1,full,"x,ids\n',
+        "open_quote.csv:5:1: a quoted field is not closed",
+    )
+    add(
+        "empty_id.csv",
+        "query_id,kitchen_id,goal,method\nq1,full,x,ids\n,full,x,ids\n",
+        "empty_id.csv:3: the query has no query_id",
+    )
     return cases
 
 
