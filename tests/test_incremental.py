@@ -143,6 +143,20 @@ def test_no_change_and_bad_items() -> None:
     assert gone.ranks() == [None, None]
     with pytest.raises(TypeError):
         p.with_changes(add=[42])  # type: ignore[list-item]
+    # Items, never a file; the error names the argument.
+    for kw, name in [({"add": "a"}, "add"), ({"remove": "kitchen.json"}, "remove"),
+                     ({"add": 42}, "add"), ({"remove": f.object(0)}, "remove"),
+                     ({"add": f}, "add")]:  # fmt: skip
+        with pytest.raises(TypeError, match=f"^{name} must be an iterable of objects"):
+            p.with_changes(**kw)  # type: ignore[arg-type]
+
+
+def test_a_derived_planner_has_its_own_utensils() -> None:
+    f = foon.Foon.from_text("O\ta\nS\tx\nM\tmix\nO\tb\nS\tx\n//\n")
+    p = foon.Planner(f, [f.object(0)], utensils=["knife"])
+    q = p.with_changes(add=[f.object(1)])
+    p.utensils.clear()
+    assert q.utensils == ["knife"]
 
 
 @pytest.mark.parametrize("seed", [1, 2])

@@ -134,7 +134,7 @@ def _check_paths(
     assert {frozenset(u) for u in every} == sets
     for m in (0, 2):
         assert [r.units for r in planner.paths(goal, max_trees=m)] == every[:m]
-    for h in (1, 2):
+    for h in (1, 2, 3):
         want = [u for u in every if ref.height(rf, u, goal, k, utensils) <= h]
         assert [r.units for r in planner.paths(goal, max_height=h)] == want
     it = planner.paths(goal, max_trees=1)
@@ -358,6 +358,25 @@ def test_cli_plan_k(course: Course) -> None:
     assert [t["units"] for t in json.loads(r.stdout)[0]["trees"]] == [t.units for t in want]
     r = _cli("plan", *BASE, *arg, "--method", "ids", "--k", "3")
     assert r.returncode != 0 and "Traceback" not in r.stderr and "optimal" in r.stderr
+
+
+def test_paths_end_when_no_tree_can_be_low_enough(course: Course) -> None:
+    """A height limit below every tree of the goal, or trees that fit fewer than asked: the
+    enumeration ends (at once when the goal's rank is above the limit)."""
+    planner = foon.Planner(course.foon, course.kitchen, motions=course.motions,
+                           utensils=course.utensils)  # fmt: skip
+    ranks = planner.ranks()
+    deep = max((r, g) for g, r in enumerate(ranks) if r is not None and r >= 8)[1]
+    r = ranks[deep]
+    assert r is not None
+    assert list(planner.paths(deep, max_trees=1, max_height=r - 1)) == []
+    assert list(planner.paths(deep, max_height=2)) == []
+    some = list(planner.paths(deep, max_trees=3, max_height=r))
+    assert 1 <= len(some) <= 3
+    for t in some:
+        height = t.tree.height
+        assert height is not None and height <= r
+        assert t.tree.is_valid(course.kitchen, course.utensils)
 
 
 def test_cli_paths(course: Course, capsys: pytest.CaptureFixture[str]) -> None:

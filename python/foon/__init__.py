@@ -441,6 +441,18 @@ def _as_kitchen(k: KitchenLike) -> Kitchen:
     return Kitchen(k)
 
 
+def _as_items(items: Iterable[ObjectLike] | None, name: str) -> Kitchen:
+    """Items given as objects (a kitchen change): ``TypeError`` naming the argument for
+    anything else (a path among them: a change is not read from a file)."""
+    if items is None:
+        return Kitchen()
+    if isinstance(items, Kitchen):
+        return items
+    if isinstance(items, (*_PATH_TYPES, Mapping, Object)) or not hasattr(items, "__iter__"):
+        raise TypeError(f"{name} must be an iterable of objects, not {_type(items)}")
+    return Kitchen(items)
+
+
 class MotionRates(Mapping[str, float]):
     """Success rate of each motion (``motion<TAB>rate`` lines in ``motion.txt``); every rate
     is between 0 and 1 (checked by the core)."""
@@ -1724,7 +1736,7 @@ class Planner:
         kitchens"). The ranks and choices of ``ids`` are updated at once; the optimal
         methods' costs on use, as far as the goals planned need (:meth:`finish_updates`
         runs them to the end)."""
-        adding, removing = _as_kitchen(add), _as_kitchen(remove)
+        adding, removing = _as_items(add, "add"), _as_items(remove, "remove")
         new = object.__new__(Planner)
         new.level = self.level
         new.foon = self.foon
@@ -1741,7 +1753,7 @@ class Planner:
         else:
             new._kitchen, new._changes = self.kitchen.without(removing).with_items(adding), None
         new.motions = self.motions
-        new.utensils = self.utensils
+        new.utensils = list(self.utensils)
         new.default_rate = self.default_rate
         new._native = _foon.planner_with_changes(
             self._native,

@@ -2,6 +2,9 @@
 //! the trees of the k-best partition for `optimal-units` (fewest units first), those higher
 //! than a limit left out, stopping after a number of trees. Lazy and deterministic; each set
 //! of units once.
+//!
+//! With a height limit H below the goal's rank (the least height of any of its trees) there
+//! is no tree to give: the enumeration ends at once.
 
 use super::kbest::{KBest, Ranked};
 use super::{Context, Method, Plan};
@@ -23,6 +26,13 @@ impl Paths {
         max_trees: Option<usize>,
         max_height: Option<u32>,
     ) -> Result<Self> {
+        // No tree of the goal is lower than its rank: none to give.
+        let low = |h: u32| ctx.ranks().rank(goal).is_some_and(|r| r <= h);
+        let max_trees = if max_height.is_some_and(|h| !low(h)) {
+            Some(0)
+        } else {
+            max_trees
+        };
         Ok(Self {
             inner: KBest::new(ctx, goal, Method::OptimalUnits, false)?,
             max_trees,
