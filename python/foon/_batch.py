@@ -71,6 +71,9 @@ MANIFEST_INTERVAL = 1.0
 #: Rows per block when reading JSON lines.
 _JSON_BLOCK = 16_384
 
+#: Rows per record batch read from Parquet, at most (a chunk is put together from them).
+_PARQUET_BATCH = 1 << 20
+
 _SUFFIXES = {
     ".parquet": "parquet",
     ".pq": "parquet",
@@ -204,19 +207,26 @@ def _select(batch: pa.RecordBatch) -> pa.RecordBatch:
 
 def _null_ids(path: str, batch: pa.RecordBatch, first_row: int, line_of: Callable[[int], int]
               ) -> None:  # fmt: skip
-    """A row without a query id (null, or an empty string) is an error naming its line."""
-    import pyarrow as pa
+    """A row without a query id is an error naming its line."""
     import pyarrow.compute as pc  # type: ignore[import-untyped]
 
-    col = batch.column("query_id")
+    missing = _missing_ids(batch.column("query_id"))
+    if pc.any(missing).as_py():
+        i = int(pc.index(missing, True).as_py())
+        raise ValueError(f"{path}:{line_of(first_row + i)}: the query has no query_id")
+
+
+def _missing_ids(col: Any) -> Any:
+    """Per row of a ``query_id`` column: whether the id is missing (null, or empty text)."""
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
     missing = col.is_null()
     if pa.types.is_dictionary(col.type):
         col = col.cast(col.type.value_type)
     if pa.types.is_string(col.type) or pa.types.is_large_string(col.type):
         missing = pc.or_(missing, pc.fill_null(pc.equal(pc.utf8_length(col), 0), False))
-    if pc.any(missing).as_py():
-        i = int(pc.index(missing, True).as_py())
-        raise ValueError(f"{path}:{line_of(first_row + i)}: the query has no query_id")
+    return missing
 
 
 def _parquet_batches(path: str, rows: int, use_threads: bool) -> Iterator[pa.RecordBatch]:
@@ -231,7 +241,7 @@ def _parquet_batches(path: str, rows: int, use_threads: bool) -> Iterator[pa.Rec
         cols = [c for c in ("query_id", "kitchen_id", "goal", "method", "options")
                 if c in f.schema_arrow.names]  # fmt: skip
         try:
-            yield from f.iter_batches(batch_size=min(rows, _JSON_BLOCK * 64), columns=cols,
+            yield from f.iter_batches(batch_size=min(rows, _PARQUET_BATCH), columns=cols,
                                       use_threads=use_threads)  # fmt: skip
         except OSError as e:
             raise ValueError(f"{path}: {e}") from None
@@ -369,7 +379,7 @@ def _json_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
                 if (
                     t.num_rows != len(lines)
                     or any(t.column(c).null_count for c in _REQUIRED)
-                    or pc.any(pc.equal(pc.utf8_length(t.column("query_id")), 0)).as_py()
+                    or pc.any(_missing_ids(t.column("query_id"))).as_py()
                 ):
                     raise pa.ArrowInvalid("not plain")
                 out = pa.RecordBatch.from_arrays(
@@ -933,14 +943,14 @@ def batch(
         return _arrow.plan_table(f, ks, t, threads=threads, motions=rates, utensils=tools,
                                  default_rate=default_rate, cancel=cancel)  # fmt: skip
 
+    # The settings (a default rate out of range, ...): the core's check, on no rows.
+    plan(_empty_queries(), threading.Event())
     # Everything that can be wrong with the inputs is found before the output is touched.
     # Meanwhile (the local engine on more than one thread) the first chunk is planned, its
     # answers held: its kitchens' preparation need not wait for the whole file's check.
     # (Not when an earlier run's manifest lists that chunk: a resumed run plans only what is
     # missing.)
     # One thread asked for: one thread works at a time (pyarrow's readers included).
-    # The settings (a default rate out of range, ...): the core's check, on no rows.
-    plan(_empty_queries(), threading.Event())
     alone = engine == "local" and threads == 1
     ahead = 1 if threads == 1 else LOCAL_AHEAD
     early = engine == "local" and ahead > 1 and not (resume and _listed(opath, part_key(0)))

@@ -401,9 +401,10 @@ impl Relax {
     }
 
     /// Runs the pass until `goal` is settled (to the end with `None`), a level of equal keys
-    /// at a time, calling `stop` as it starts and every few thousand settled objects (its error stops the pass where it is, to be run again
-    /// later). Stops with [`Reached::TooFar`] once more than `limit` objects that were not
-    /// affected have been settled.
+    /// at a time, calling `stop` as it starts and every few thousand settled objects (its
+    /// error stops the pass where it is, to be run again later). Stops with
+    /// [`Reached::TooFar`] once more than `limit` objects that were not affected have been
+    /// settled.
     pub(crate) fn advance<R: Rules>(
         &mut self,
         foon: &Foon,
