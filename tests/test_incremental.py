@@ -221,3 +221,40 @@ def test_finish_updates_from_several_threads() -> None:
     with ThreadPoolExecutor(4) as ex:
         got = list(ex.map(plan, jobs))
     assert got == [want[m][g] for g, m in jobs]
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_synthetic_deltas_at_size(seed: int) -> None:
+    """A synthetic FOON large enough that the update passes take their large-FOON path (the
+    changes kept in arrays once they are thousands, levels of hundreds of objects): additions
+    of made objects (each lowers the cost of much of what is made from it), removals and both,
+    against a planner prepared from scratch, goal by goal through the pending updates and run
+    to the end."""
+    units = 60_000
+    f = foon.Foon.from_text(foon.synth(units, seed))
+    kitchen = foon.synth_kitchen(units, seed)
+    motions = foon.synth_motions()
+    base = foon.Planner(f, kitchen, motions=motions)
+    rnd = random.Random(seed)
+    goals = sorted({f.find(g) for g in foon.synth_goals(units, seed, 40)} - {None})
+    goals += rnd.sample(range(f.object_count), 40)
+    methods = ("ids", "optimal-units", "optimal-success", "optimal-inputs")
+    for m in methods:
+        base.plan_many(goals, m)
+    inside = {f.find(o) for o in kitchen}
+    made = [o for o in range(f.object_count) if o not in inside and f.producers(o)]
+    add = objects_of(f, rnd.sample(made, 10))
+    remove = rnd.sample(list(kitchen), 10)
+    for a, r in ((add, []), ([], remove), (add[:5], remove[:5])):
+        fresh = foon.Planner(f, kitchen.without(r).with_items(a), motions=motions)
+        want = {m: fresh.plan_many(goals, m) for m in methods}
+        inc = base.with_changes(add=a, remove=r)
+        assert inc.ranks() == fresh.ranks()
+        for m in methods:
+            got = [inc.plan(g, m) for g in goals]
+            assert [tuple(getattr(t, x) for x in RESULT_FIELDS) for t in got] == [
+                tuple(getattr(t, x) for x in RESULT_FIELDS) for t in want[m]
+            ], m
+        inc.finish_updates()
+        for m in methods:
+            assert inc.plan_many(goals, m) == want[m], m

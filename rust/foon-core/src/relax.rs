@@ -37,8 +37,9 @@
 //! read in memory order). The final values do not depend on the order of the offers (the
 //! choice is the least of them in (value, depth, producer) order).
 //!
-//! The pass keeps the values it changed apart (a hash map, marked by one bit per object) and
-//! reads every other value from the values before the change, so it costs what it reaches:
+//! The pass keeps the values it changed apart (a hash map, then arrays once they are many,
+//! marked by one bit per object) and reads every other value from the values before the
+//! change, so it costs what it reaches:
 //! O((A + L) log A) plus the needed and output slots of the units it reaches, for A affected
 //! and L lowered objects.
 
@@ -92,11 +93,11 @@ struct Local {
 }
 
 /// The values the pass changed: in a hash map (marked by one bit per object) while they are
-/// few, in an array over every object once they pass a share of the FOON ([`DENSE_SHARE`]:
-/// one read per look-up). The array's zeroed pages cost nothing until touched, but a pass
-/// touches objects all over it, so it is taken only where the changed column will be written
-/// out whole anyway (`layered.rs`): a pending update that is kept costs memory in proportion
-/// to what it changed.
+/// few, then in an array of them indexed by an array over every object once they pass a
+/// share of the FOON ([`DENSE_SHARE`]): no rehash as they grow, and the index costs 4 bytes
+/// per object, in zeroed pages that the system provides when first touched (a pass that
+/// reaches objects all over the FOON touches most of them). A pending update that is kept
+/// costs memory in proportion to what it changed.
 struct Changed {
     /// One bit per object: whether it is present (read first: it stays in the caches).
     bits: Vec<u64>,
@@ -105,41 +106,31 @@ struct Changed {
 
 enum Values {
     Sparse(FxHashMap<u32, Local>),
-    /// Per object: cost bits; choice and mark; depth (an anonymous mapping, so that its
-    /// pages are zeroed by the system when first touched, never all at once). And the objects
-    /// present.
+    /// Per object present: its position in `locals` and `present` (an anonymous mapping,
+    /// read only where `bits` says the object is present); the values, and the objects, in
+    /// the order they were first changed.
     Dense {
-        words: memmap2::MmapMut,
+        index: memmap2::MmapMut,
+        locals: Vec<Local>,
         present: Vec<u32>,
     },
 }
 
-/// The dense array's entry of a value.
 #[inline]
-fn encode(l: Local) -> [u64; 3] {
-    [
-        l.slot.cost.to_bits(),
-        u64::from(l.slot.choice) | (u64::from(l.mark) << 32),
-        u64::from(l.slot.depth),
-    ]
-}
-
-#[inline]
-fn dense(words: &[u8]) -> &[[u64; 3]] {
+fn index_of(words: &[u8]) -> &[u32] {
     bytemuck::cast_slice(words)
 }
 
 #[inline]
-fn dense_mut(words: &mut [u8]) -> &mut [[u64; 3]] {
+fn index_of_mut(words: &mut [u8]) -> &mut [u32] {
     bytemuck::cast_slice_mut(words)
 }
 
 /// A pass that changes more than one object in `DENSE_SHARE` of the FOON (and more than
-/// `DENSE_FROM`) keeps them in an array: the share at which a changed column is written out
-/// whole. (The unit tests' FOONs are small: they take the array from 4 objects, so that both
-/// ways run.)
+/// `DENSE_FROM`) keeps them in arrays. (The unit tests' FOONs are small: they take the
+/// arrays from 4 objects, so that both ways run.)
 const DENSE_FROM: usize = if cfg!(test) { 4 } else { 4096 };
-const DENSE_SHARE: usize = 16;
+const DENSE_SHARE: usize = 64;
 
 impl Changed {
     fn new(n: usize) -> Self {
@@ -157,17 +148,7 @@ impl Changed {
         }
         match &self.values {
             Values::Sparse(map) => map.get(&o).copied(),
-            Values::Dense { words, .. } => {
-                let [c, m, d] = dense(words)[u];
-                Some(Local {
-                    slot: Slot {
-                        cost: f64::from_bits(c),
-                        choice: m as u32,
-                        depth: d as u32,
-                    },
-                    mark: (m >> 32) as u8,
-                })
-            }
+            Values::Dense { index, locals, .. } => Some(locals[index_of(index)[u] as usize]),
         }
     }
 
@@ -184,35 +165,45 @@ impl Changed {
                     self.densify(n);
                 }
             }
-            Values::Dense { words, present } => {
+            Values::Dense {
+                index,
+                locals,
+                present,
+            } => {
                 if new {
+                    index_of_mut(index)[u] = locals.len() as u32;
+                    locals.push(l);
                     present.push(o);
+                } else {
+                    locals[index_of(index)[u] as usize] = l;
                 }
-                dense_mut(words)[u] = encode(l);
             }
         }
     }
 
-    /// Moves the changes of a sparse store into an array over the `n` (rounded) objects.
+    /// Moves the changes of a sparse store into arrays over the `n` (rounded) objects.
     #[cold]
     fn densify(&mut self, n: usize) {
         let Values::Sparse(map) = &mut self.values else {
             return;
         };
-        let Ok(mut words) = memmap2::MmapMut::map_anon(24 * n) else {
-            // No memory for the array: the map goes on.
+        let Ok(mut index) = memmap2::MmapMut::map_anon(4 * n) else {
+            // No memory for the index: the map goes on.
             return;
         };
-        // Large pages where the system has them: far fewer faults and misses of the address
-        // translation on an array read at random (a hint; nothing depends on it).
-        let _ = words.advise(memmap2::Advice::HugePage);
         let map = std::mem::take(map);
-        let mut present = Vec::with_capacity(2 * map.len());
+        let mut locals = Vec::with_capacity(4 * map.len());
+        let mut present = Vec::with_capacity(4 * map.len());
         for (o, l) in map {
+            index_of_mut(&mut index)[o as usize] = locals.len() as u32;
+            locals.push(l);
             present.push(o);
-            dense_mut(&mut words)[o as usize] = encode(l);
         }
-        self.values = Values::Dense { words, present };
+        self.values = Values::Dense {
+            index,
+            locals,
+            present,
+        };
     }
 
     /// The number of objects present.
@@ -227,17 +218,9 @@ impl Changed {
     fn into_iter(self) -> Box<dyn Iterator<Item = (u32, Slot)>> {
         match self.values {
             Values::Sparse(map) => Box::new(map.into_iter().map(|(o, l)| (o, l.slot))),
-            Values::Dense { words, present } => Box::new(present.into_iter().map(move |o| {
-                let [c, m, d] = dense(&words)[o as usize];
-                (
-                    o,
-                    Slot {
-                        cost: f64::from_bits(c),
-                        choice: m as u32,
-                        depth: d as u32,
-                    },
-                )
-            })),
+            Values::Dense {
+                locals, present, ..
+            } => Box::new(present.into_iter().zip(locals).map(|(o, l)| (o, l.slot))),
         }
     }
 
@@ -245,9 +228,15 @@ impl Changed {
         8 * self.bits.capacity()
             + match &self.values {
                 Values::Sparse(map) => (std::mem::size_of::<(u32, Local)>() + 1) * map.capacity(),
-                // The pages touched, at most: one per object present.
-                Values::Dense { words, present } => {
-                    4 * present.capacity() + words.len().min(4096 * present.len())
+                // The index's pages touched, at most: one per object present.
+                Values::Dense {
+                    index,
+                    locals,
+                    present,
+                } => {
+                    std::mem::size_of::<Local>() * locals.capacity()
+                        + 4 * present.capacity()
+                        + index.len().min(4096 * present.len())
                 }
             }
     }
@@ -479,10 +468,9 @@ impl Relax {
                     continue;
                 };
                 for &y in foon.outputs(f) {
-                    if rules.is_leaf(y) || prep.is_bare(y) {
-                        continue;
+                    if !prep.is_bare(y) {
+                        self.offer(rules, y, f, c, d);
                     }
-                    self.offer(rules, y, f, c, d);
                 }
             }
             self.level = level;
@@ -593,7 +581,8 @@ impl Relax {
     }
 
     /// Offers `y` the value (`c`, `d`) of unit `f`: kept when it beats `y`'s current one
-    /// (queued when strictly lower); a settled `y` keeps its value.
+    /// (queued when strictly lower); a settled `y` and a leaf keep their values (whether `y`
+    /// is a leaf is read last: most offers lose before).
     #[inline]
     fn offer<R: Rules>(&mut self, rules: &R, y: u32, f: u32, c: f64, d: u32) {
         let (old, mark) = match self.local_of(y) {
@@ -606,7 +595,7 @@ impl Relax {
         } else {
             lower(c, d, old.cost, old.depth)
         };
-        if wins {
+        if wins && !rules.is_leaf(y) {
             if !R::CHOICES || lower(c, d, old.cost, old.depth) {
                 self.queue.push(Entry {
                     cost: c,

@@ -10,10 +10,13 @@
 //! the highest bit in which an entry's cost differs from the last popped one.
 //!
 //! Ties: the searches break equal costs by depth and object id (the order of [`Entry`]), so the entries
-//! whose cost equals the last popped one (bucket 0) are kept in a small binary heap of
-//! [`Entry`]. An entry pushed below the last popped cost (which the searches never do) also
-//! goes there, so the pops are always those of a binary heap of [`Entry`]: everything in
-//! bucket 0 is at most the last popped cost, everything elsewhere above it.
+//! whose cost equals the last popped one (bucket 0) are kept in order: those moved down at
+//! once when a bucket is emptied into bucket 0, sorted in one go (cheaper than a heap's sift
+//! per entry: they are often hundreds of one cost), and those pushed at that cost afterwards in
+//! a small binary heap of [`Entry`], a pop taking the least of the two. An entry pushed below
+//! the last popped cost (which the searches never do) also goes to the heap, so the pops are
+//! always those of a binary heap of [`Entry`]: everything in bucket 0 is at most the last
+//! popped cost, everything elsewhere above it.
 
 use std::collections::BinaryHeap;
 
@@ -24,7 +27,9 @@ use super::optimal::Entry;
 pub(crate) struct RadixQueue {
     /// Bits of the last cost that bucket 0 was refilled at.
     last: u64,
-    /// Entries whose cost is at most `last`, popped in [`Entry`] order.
+    /// Entries whose cost is at most `last`: those moved down by the last refill, the least
+    /// last, and those pushed since, popped in [`Entry`] order.
+    sorted: Vec<Entry>,
     low: BinaryHeap<Entry>,
     /// `buckets[i]`: entries whose cost first differs from `last` in bit `i` (from 0, the
     /// lowest), as (cost bits, depth, object).
@@ -35,6 +40,7 @@ impl RadixQueue {
     pub(crate) fn new() -> Self {
         Self {
             last: 0,
+            sorted: Vec::new(),
             low: BinaryHeap::new(),
             buckets: (0..64).map(|_| Vec::new()).collect(),
         }
@@ -56,7 +62,7 @@ impl RadixQueue {
     /// Moves the entries of the lowest non-empty bucket down, the cheapest into `low`, when
     /// `low` is empty.
     fn refill(&mut self) {
-        if !self.low.is_empty() {
+        if !self.low.is_empty() || !self.sorted.is_empty() {
             return;
         }
         let Some(b) = self.buckets.iter().position(|v| !v.is_empty()) else {
@@ -67,7 +73,7 @@ impl RadixQueue {
         self.last = least;
         for &(k, depth, obj) in &moved {
             if k == least {
-                self.low.push(Entry {
+                self.sorted.push(Entry {
                     cost: f64::from_bits(k),
                     depth,
                     obj,
@@ -83,25 +89,44 @@ impl RadixQueue {
         moved.clear();
         // Keep the allocation for the next entries of this bucket.
         self.buckets[b] = moved;
+        // `Entry` orders the least (cost, depth, id) greatest: it ends the vector.
+        self.sorted.sort_unstable();
+    }
+
+    /// Whether the next pop takes the end of `sorted` (else the top of `low`).
+    #[inline]
+    fn next_is_sorted(&self) -> bool {
+        match (self.sorted.last(), self.low.peek()) {
+            (Some(a), Some(b)) => a > b,
+            (a, _) => a.is_some(),
+        }
     }
 
     /// The least entry (cost, then depth, then object id), without removing it.
     #[inline]
     pub(crate) fn peek(&mut self) -> Option<&Entry> {
         self.refill();
-        self.low.peek()
+        if self.next_is_sorted() {
+            self.sorted.last()
+        } else {
+            self.low.peek()
+        }
     }
 
     #[inline]
     pub(crate) fn pop(&mut self) -> Option<Entry> {
         self.refill();
-        self.low.pop()
+        if self.next_is_sorted() {
+            self.sorted.pop()
+        } else {
+            self.low.pop()
+        }
     }
 
     /// The number of entries (counted, for the tests).
     #[cfg(test)]
     pub(crate) fn len(&self) -> usize {
-        self.low.len() + self.buckets.iter().map(Vec::len).sum::<usize>()
+        self.sorted.len() + self.low.len() + self.buckets.iter().map(Vec::len).sum::<usize>()
     }
 }
 
