@@ -315,7 +315,7 @@ impl Pending {
                 None => return Ok(Reached::TooFar),
             },
         };
-        relax.advance(foon, prep, &rules, goal, self.limit, stop)
+        relax.advance(prep, &rules, goal, self.limit, stop)
     }
 
     /// The current value of `o` (final once the pass settled it).
@@ -462,7 +462,7 @@ impl Prepared {
             return (None, None);
         };
         if !matches!(
-            relax.advance(foon, new_prep, &rules, None, limit, &never),
+            relax.advance(new_prep, &rules, None, limit, &never),
             Ok(Reached::End)
         ) {
             return (None, None);

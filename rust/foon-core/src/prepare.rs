@@ -62,7 +62,10 @@ pub struct PreparedBase {
     /// [`PreparedBase::key_of`] the utensils, rates and default rate.
     key: u128,
     object_count: usize,
-    /// Needed inputs of each FU (container rule applied), in input order.
+    /// Per FU, one row: the number k of its needed inputs (container rule applied), those
+    /// inputs in input order, then its outputs that are not bare, in output order. A search
+    /// that goes from a unit's inputs to its outputs reads one row (one place in memory)
+    /// instead of one row of each.
     needed: Csr,
     /// For each object, the FUs where it is a needed input (one entry per slot).
     needed_by: Csr,
@@ -379,7 +382,13 @@ impl Prepared {
     /// Needed inputs of `fu` (after the container rule).
     #[inline]
     pub fn needed(&self, fu: u32) -> &[u32] {
-        self.base.needed.row(fu)
+        self.base.needed(fu)
+    }
+
+    /// Needed inputs of `fu` (after the container rule) and its outputs that are not bare.
+    #[inline]
+    pub(crate) fn flow(&self, fu: u32) -> (&[u32], &[u32]) {
+        self.base.flow(fu)
     }
 
     /// [`Foon::is_bare`] of object `o` of the FOON these inputs were prepared for.
@@ -693,7 +702,11 @@ impl PreparedBase {
         let n_fu = foon.fu_count() as u32;
         let needed_by = Csr::from_pairs(
             n,
-            (0..n_fu).flat_map(|f| needed.row(f).iter().map(move |&o| (o, f))),
+            (0..n_fu).flat_map(|f| {
+                let row = needed.row(f);
+                let k = row.first().map_or(0, |&k| k as usize);
+                row.get(1..=k).unwrap_or(&[]).iter().map(move |&o| (o, f))
+            }),
         );
         let fu_rate: Vec<f64> = (0..n_fu)
             .map(|f| {
@@ -794,7 +807,16 @@ impl PreparedBase {
     /// Needed inputs of `fu` (after the container rule).
     #[inline]
     pub fn needed(&self, fu: u32) -> &[u32] {
-        self.needed.row(fu)
+        self.flow(fu).0
+    }
+
+    /// Needed inputs of `fu` (after the container rule) and its outputs that are not bare.
+    #[inline]
+    pub(crate) fn flow(&self, fu: u32) -> (&[u32], &[u32]) {
+        match self.needed.row(fu).split_first() {
+            Some((&k, rest)) => rest.split_at((k as usize).min(rest.len())),
+            None => (&[], &[]),
+        }
     }
 
     /// The FUs where `o` is a needed input (one entry per slot).
@@ -814,10 +836,11 @@ impl PreparedBase {
     }
 }
 
-/// Needed inputs of every FU: the container rule removes an input whose label is a utensil
-/// and whose ingredients are exactly `[x]` when another input of the FU is labelled `x` and
-/// sits in that utensil. Linear in the inputs: the (label, container) pairs of an FU's inputs
-/// are counted once, and an input's own pair is not "another input".
+/// Needed inputs of every FU, each row as [`PreparedBase`] keeps it (their number, the
+/// inputs, the outputs that are not bare): the container rule removes an input whose label
+/// is a utensil and whose ingredients are exactly `[x]` when another input of the FU is
+/// labelled `x` and sits in that utensil. Linear in the inputs: the (label, container) pairs
+/// of an FU's inputs are counted once, and an input's own pair is not "another input".
 fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
     let mut out = Csr::new();
     let mut row = Vec::new();
@@ -825,29 +848,37 @@ fn needed_inputs(foon: &Foon, utensils: &FxHashSet<u32>) -> Csr {
     for f in 0..foon.fu_count() as u32 {
         let ins = foon.inputs(f);
         row.clear();
+        row.push(0);
         // Only an input that holds one ingredient in a utensil can be skipped.
         let holder = |o: u32| foon.ingredients(o).len() == 1 && utensils.contains(&foon.label(o));
-        if !ins.iter().any(|&o| holder(o)) {
-            out.push_row(ins);
-            continue;
-        }
-        held.clear();
-        for &p in ins {
-            let c = foon.container(p);
-            if c != NONE {
-                *held.entry((foon.label(p), c)).or_default() += 1;
+        if ins.iter().any(|&o| holder(o)) {
+            held.clear();
+            for &p in ins {
+                let c = foon.container(p);
+                if c != NONE {
+                    *held.entry((foon.label(p), c)).or_default() += 1;
+                }
             }
-        }
-        for &o in ins {
-            let skip = holder(o) && {
-                let pair = (foon.ingredients(o)[0], foon.label(o));
-                let own = u32::from((foon.label(o), foon.container(o)) == pair);
-                held.get(&pair).copied().unwrap_or(0) > own
-            };
-            if !skip {
-                row.push(o);
+            for &o in ins {
+                let skip = holder(o) && {
+                    let pair = (foon.ingredients(o)[0], foon.label(o));
+                    let own = u32::from((foon.label(o), foon.container(o)) == pair);
+                    held.get(&pair).copied().unwrap_or(0) > own
+                };
+                if !skip {
+                    row.push(o);
+                }
             }
+        } else {
+            row.extend_from_slice(ins);
         }
+        row[0] = (row.len() - 1) as u32;
+        row.extend(
+            foon.outputs(f)
+                .iter()
+                .copied()
+                .filter(|&o| !foon.is_bare(o)),
+        );
         out.push_row(&row);
     }
     out
@@ -962,8 +993,18 @@ mod tests {
                 .collect();
             let linear = needed_inputs(&foon, &utensils);
             for f in 0..foon.fu_count() as u32 {
-                assert_eq!(linear.row(f), quadratic(&foon, &utensils, f), "{text}");
-                skipped += foon.inputs(f).len() - linear.row(f).len();
+                // The row: the count k, the k needed inputs, the outputs that are not bare.
+                let row = linear.row(f);
+                let k = row[0] as usize;
+                assert_eq!(&row[1..=k], quadratic(&foon, &utensils, f), "{text}");
+                let outputs: Vec<u32> = foon
+                    .outputs(f)
+                    .iter()
+                    .copied()
+                    .filter(|&o| !foon.is_bare(o))
+                    .collect();
+                assert_eq!(&row[k + 1..], &outputs[..]);
+                skipped += foon.inputs(f).len() - k;
             }
         }
         assert!(skipped > 100, "the rule skipped only {skipped} inputs");

@@ -352,7 +352,7 @@ impl Relax {
                 r.queue.push(leaf_entry(y));
             } else if !prep.is_bare(y) {
                 for &f in foon.producers(y) {
-                    if let Some((c, d)) = r.unit(prep, rules, f) {
+                    if let Some((c, d)) = r.unit(rules, f, prep.needed(f)) {
                         r.offer(rules, y, f, c, d);
                     }
                 }
@@ -396,7 +396,6 @@ impl Relax {
     /// settled.
     pub(crate) fn advance<R: Rules>(
         &mut self,
-        foon: &Foon,
         prep: &Prepared,
         rules: &R,
         goal: Option<u32>,
@@ -464,13 +463,13 @@ impl Relax {
                 units.dedup();
             }
             for &f in &units {
-                let Some((c, d)) = self.unit(prep, rules, f) else {
+                // One row: the unit's needed inputs and its outputs that are not bare.
+                let (needed, outputs) = prep.flow(f);
+                let Some((c, d)) = self.unit(rules, f, needed) else {
                     continue;
                 };
-                for &y in foon.outputs(f) {
-                    if !prep.is_bare(y) {
-                        self.offer(rules, y, f, c, d);
-                    }
+                for &y in outputs {
+                    self.offer(rules, y, f, c, d);
                 }
             }
             self.level = level;
@@ -538,8 +537,7 @@ impl Relax {
     /// one of its needed inputs has no value yet (an infinite one, or an affected one not
     /// settled) or the value is infinite (a motion of rate 0).
     #[inline]
-    fn unit<R: Rules>(&self, prep: &Prepared, rules: &R, f: u32) -> Option<(f64, u32)> {
-        let needed = prep.needed(f);
+    fn unit<R: Rules>(&self, rules: &R, f: u32, needed: &[u32]) -> Option<(f64, u32)> {
         let read = |x: u32| -> Option<(f64, u32)> {
             let (c, d, m) = if let Some(l) = self.local_of(x) {
                 (l.slot.cost, l.slot.depth, l.mark)
