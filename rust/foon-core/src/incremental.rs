@@ -69,6 +69,10 @@ impl Rules for OptimumRules<'_> {
         self.before.get(o)
     }
     #[inline]
+    fn prefetch(&self, o: u32) {
+        self.before.prefetch(o);
+    }
+    #[inline]
     fn old_choice(&self, o: u32) -> u32 {
         self.before.get(o).choice
     }
@@ -124,6 +128,10 @@ impl Rules for RankRules<'_> {
             choice: NONE,
             depth: 0,
         }
+    }
+    #[inline]
+    fn prefetch(&self, o: u32) {
+        self.rank.layered().prefetch(o);
     }
     /// The first producer that achieves an object's rank: the choice of `ids`.
     fn old_choice(&self, y: u32) -> u32 {

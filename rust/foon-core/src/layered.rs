@@ -93,6 +93,14 @@ impl<T: Value> Layered<T> {
         self.shared[u]
     }
 
+    /// Brings in the shared value of object `i` (a hint: the value most reads take).
+    #[inline]
+    pub(crate) fn prefetch(&self, i: u32) {
+        if let Some(v) = self.shared.get(i as usize) {
+            crate::index::csr::prefetch(v);
+        }
+    }
+
     /// The values in object order.
     pub(crate) fn iter(&self) -> impl Iterator<Item = T> + '_ {
         (0..self.len() as u32).map(|i| self.get(i))

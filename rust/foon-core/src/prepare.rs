@@ -391,6 +391,29 @@ impl Prepared {
         self.base.flow(fu)
     }
 
+    /// Brings in where the row of [`Prepared::flow`] of `fu` starts (a hint).
+    #[inline]
+    pub(crate) fn prefetch_flow_offset(&self, fu: u32) {
+        self.base.needed.prefetch_offset(fu);
+    }
+
+    /// Brings in where the row of [`Prepared::needed_by`] of `o` starts, or the row (reading
+    /// where it starts) with `row` (a hint).
+    #[inline]
+    pub(crate) fn prefetch_needed_by(&self, o: u32, row: bool) {
+        if row {
+            self.base.needed_by.prefetch_row(o);
+        } else {
+            self.base.needed_by.prefetch_offset(o);
+        }
+    }
+
+    /// Brings in the row of [`Prepared::flow`] of `fu` (a hint; reads where it starts).
+    #[inline]
+    pub(crate) fn prefetch_flow(&self, fu: u32) {
+        self.base.needed.prefetch_row(fu);
+    }
+
     /// [`Foon::is_bare`] of object `o` of the FOON these inputs were prepared for.
     #[inline]
     pub(crate) fn is_bare(&self, o: u32) -> bool {

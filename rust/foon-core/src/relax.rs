@@ -79,6 +79,9 @@ pub(crate) trait Rules: Sync {
     fn leaf(&self) -> (f64, u32);
     /// The weight of unit `f` ([`Combine::Sum`]).
     fn weight(&self, f: u32) -> f64;
+    /// Brings in what [`Rules::before`] reads for `o` (a hint).
+    #[inline]
+    fn prefetch(&self, _o: u32) {}
 }
 
 /// Marks of an object the pass touched.
@@ -149,6 +152,17 @@ impl Changed {
         match &self.values {
             Values::Sparse(map) => map.get(&o).copied(),
             Values::Dense { index, locals, .. } => Some(locals[index_of(index)[u] as usize]),
+        }
+    }
+
+    /// Brings in where the value of `o` is kept, when it is present in the arrays (a hint).
+    #[inline]
+    fn prefetch(&self, o: u32) {
+        let u = o as usize;
+        if let Values::Dense { index, .. } = &self.values
+            && (self.bits[u >> 6] >> (u & 63)) & 1 != 0
+        {
+            crate::index::csr::prefetch(&index_of(index)[u]);
         }
     }
 
@@ -246,6 +260,10 @@ impl Changed {
 /// `STOP_EVERY` objects, between two levels (every level in the unit tests, so that they stop
 /// passes anywhere).
 const STOP_EVERY: usize = if cfg!(test) { 1 } else { 4096 };
+
+/// How many units ahead of the one computed a level's pass brings in the values it will read
+/// (and twice and three times as far, the rows and where they start).
+const AHEAD: usize = 4;
 
 /// How far [`Relax::advance`] went.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -455,14 +473,36 @@ impl Relax {
             until_stop = until_stop.saturating_sub(level.len());
             let mut units = std::mem::take(&mut self.units);
             units.clear();
-            for &o in &level {
+            for (i, &o) in level.iter().enumerate() {
+                if let Some(&p) = level.get(i + 2 * AHEAD) {
+                    prep.prefetch_needed_by(p, false);
+                }
+                if let Some(&p) = level.get(i + AHEAD) {
+                    prep.prefetch_needed_by(p, true);
+                }
                 units.extend_from_slice(prep.needed_by(o));
             }
             if level.len() > 1 {
                 units.sort_unstable();
                 units.dedup();
             }
-            for &f in &units {
+            for (i, &f) in units.iter().enumerate() {
+                // The rows of the units a few steps ahead are brought in as a pipeline (where
+                // a row starts, the row, the values it reads), so that the misses of several
+                // units overlap instead of each waiting for the one before.
+                if let Some(&g) = units.get(i + 3 * AHEAD) {
+                    prep.prefetch_flow_offset(g);
+                }
+                if let Some(&g) = units.get(i + 2 * AHEAD) {
+                    prep.prefetch_flow(g);
+                }
+                if let Some(&g) = units.get(i + AHEAD) {
+                    let (needed, outputs) = prep.flow(g);
+                    for &x in needed.iter().chain(outputs) {
+                        rules.prefetch(x);
+                        self.local.prefetch(x);
+                    }
+                }
                 // One row: the unit's needed inputs and its outputs that are not bare.
                 let (needed, outputs) = prep.flow(f);
                 let Some((c, d)) = self.unit(rules, f, needed) else {

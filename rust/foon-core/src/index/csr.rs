@@ -4,6 +4,23 @@
 use super::col::Col;
 use crate::error::{Error, Result};
 
+/// Asks the processor to bring the cache line of `x` in (a hint: no effect on what the
+/// program computes, and none at all where the target has no such instruction).
+#[inline]
+#[allow(unsafe_code)]
+pub(crate) fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing and writes nothing (it cannot fault, whatever the
+    // address); `sse`, which it needs, is part of every x86-64 processor.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            std::ptr::from_ref(x).cast::<i8>(),
+        );
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
 /// Compressed sparse rows: row `i` is `data[off[i]..off[i + 1]]`.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Csr {
@@ -60,6 +77,26 @@ impl Csr {
         match (off.get(i), off.get(i + 1)) {
             (Some(&a), Some(&b)) => self.data.get(a as usize..b as usize).unwrap_or(&[]),
             _ => &[],
+        }
+    }
+
+    /// Brings in the offset of row `i` ([`prefetch`]).
+    #[inline]
+    pub(crate) fn prefetch_offset(&self, i: u32) {
+        if let Some(a) = self.off.get(i as usize) {
+            prefetch(a);
+        }
+    }
+
+    /// Brings in the first entries of row `i` ([`prefetch`]; its offset is read).
+    #[inline]
+    pub(crate) fn prefetch_row(&self, i: u32) {
+        if let Some(x) = self
+            .off
+            .get(i as usize)
+            .and_then(|&a| self.data.get(a as usize))
+        {
+            prefetch(x);
         }
     }
 

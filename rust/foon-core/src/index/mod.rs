@@ -7,7 +7,7 @@
 
 mod build;
 mod col;
-mod csr;
+pub(crate) mod csr;
 pub mod file;
 pub mod hash;
 mod interner;
