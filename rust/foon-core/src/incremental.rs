@@ -71,6 +71,7 @@ impl Rules for OptimumRules<'_> {
     #[inline]
     fn prefetch(&self, o: u32) {
         self.before.prefetch(o);
+        self.prep.kitchen_flags().prefetch(o);
     }
     #[inline]
     fn old_choice(&self, o: u32) -> u32 {
@@ -132,6 +133,7 @@ impl Rules for RankRules<'_> {
     #[inline]
     fn prefetch(&self, o: u32) {
         self.rank.layered().prefetch(o);
+        self.prep.kitchen_flags().prefetch(o);
     }
     /// The first producer that achieves an object's rank: the choice of `ids`.
     fn old_choice(&self, y: u32) -> u32 {

@@ -79,7 +79,7 @@ pub(crate) trait Rules: Sync {
     fn leaf(&self) -> (f64, u32);
     /// The weight of unit `f` ([`Combine::Sum`]).
     fn weight(&self, f: u32) -> f64;
-    /// Brings in what [`Rules::before`] reads for `o` (a hint).
+    /// Brings in what [`Rules::before`] and [`Rules::is_leaf`] read for `o` (a hint).
     #[inline]
     fn prefetch(&self, _o: u32) {}
 }
@@ -155,14 +155,22 @@ impl Changed {
         }
     }
 
-    /// Brings in where the value of `o` is kept, when it is present in the arrays (a hint).
+    /// Brings in where the value of `o` is kept (with `value`, the value: reads where it is
+    /// kept), when it is present in the arrays (a hint).
     #[inline]
-    fn prefetch(&self, o: u32) {
+    fn prefetch(&self, o: u32, value: bool) {
         let u = o as usize;
-        if let Values::Dense { index, .. } = &self.values
+        if let Values::Dense { index, locals, .. } = &self.values
             && (self.bits[u >> 6] >> (u & 63)) & 1 != 0
         {
-            crate::index::csr::prefetch(&index_of(index)[u]);
+            let at = &index_of(index)[u];
+            if value {
+                if let Some(l) = locals.get(*at as usize) {
+                    crate::index::csr::prefetch(l);
+                }
+            } else {
+                crate::index::csr::prefetch(at);
+            }
         }
     }
 
@@ -261,8 +269,9 @@ impl Changed {
 /// passes anywhere).
 const STOP_EVERY: usize = if cfg!(test) { 1 } else { 4096 };
 
-/// How many units ahead of the one computed a level's pass brings in the values it will read
-/// (and twice and three times as far, the rows and where they start).
+/// How many units ahead of the one computed a level's pass brings in the values it changed
+/// that it will read (twice as far, where they are kept and the values before the change;
+/// three and four times as far, the rows and where they start).
 const AHEAD: usize = 4;
 
 /// How far [`Relax::advance`] went.
@@ -465,6 +474,12 @@ impl Relax {
                     }
                     level.push(o);
                 }
+                if let Some(e) = self.queue.ahead(2 * AHEAD) {
+                    self.local.prefetch(e.obj, false);
+                }
+                if let Some(e) = self.queue.ahead(AHEAD) {
+                    self.local.prefetch(e.obj, true);
+                }
                 next = match self.queue.peek() {
                     Some(t) if !lower(cost, depth, t.cost, t.depth) => self.queue.pop(),
                     _ => None,
@@ -490,17 +505,23 @@ impl Relax {
                 // The rows of the units a few steps ahead are brought in as a pipeline (where
                 // a row starts, the row, the values it reads), so that the misses of several
                 // units overlap instead of each waiting for the one before.
-                if let Some(&g) = units.get(i + 3 * AHEAD) {
+                if let Some(&g) = units.get(i + 4 * AHEAD) {
                     prep.prefetch_flow_offset(g);
                 }
-                if let Some(&g) = units.get(i + 2 * AHEAD) {
+                if let Some(&g) = units.get(i + 3 * AHEAD) {
                     prep.prefetch_flow(g);
+                }
+                if let Some(&g) = units.get(i + 2 * AHEAD) {
+                    let (needed, outputs) = prep.flow(g);
+                    for &x in needed.iter().chain(outputs) {
+                        rules.prefetch(x);
+                        self.local.prefetch(x, false);
+                    }
                 }
                 if let Some(&g) = units.get(i + AHEAD) {
                     let (needed, outputs) = prep.flow(g);
                     for &x in needed.iter().chain(outputs) {
-                        rules.prefetch(x);
-                        self.local.prefetch(x);
+                        self.local.prefetch(x, true);
                     }
                 }
                 // One row: the unit's needed inputs and its outputs that are not bare.

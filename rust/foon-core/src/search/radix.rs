@@ -89,8 +89,10 @@ impl RadixQueue {
         moved.clear();
         // Keep the allocation for the next entries of this bucket.
         self.buckets[b] = moved;
-        // `Entry` orders the least (cost, depth, id) greatest: it ends the vector.
-        self.sorted.sort_unstable();
+        // They all cost `least`: ordered by (depth, id), the least last, as one integer key.
+        self.sorted.sort_unstable_by_key(|e| {
+            std::cmp::Reverse((u64::from(e.depth) << 32) | u64::from(e.obj))
+        });
     }
 
     /// Whether the next pop takes the end of `sorted` (else the top of `low`).
@@ -121,6 +123,16 @@ impl RadixQueue {
         } else {
             self.low.pop()
         }
+    }
+
+    /// An entry likely to be popped `k` pops from now (the `k`-th of those moved down by the
+    /// last refill, counting from the next; pushes since are not counted): for hints only.
+    #[inline]
+    pub(crate) fn ahead(&self, k: usize) -> Option<&Entry> {
+        self.sorted
+            .len()
+            .checked_sub(k + 1)
+            .and_then(|i| self.sorted.get(i))
     }
 
     /// The number of entries (counted, for the tests).
