@@ -97,7 +97,7 @@ impl<T: Value> Layered<T> {
     #[inline]
     pub(crate) fn prefetch(&self, i: u32) {
         if let Some(v) = self.shared.get(i as usize) {
-            crate::index::csr::prefetch(v);
+            crate::hint::prefetch(v);
         }
     }
 

@@ -16,6 +16,7 @@ pub mod evaluate;
 pub mod explain;
 pub mod find;
 mod forward;
+mod hint;
 pub mod index;
 pub mod kitchen;
 pub mod levels;

@@ -391,12 +391,6 @@ impl Prepared {
         self.base.flow(fu)
     }
 
-    /// Brings in where the row of [`Prepared::flow`] of `fu` starts (a hint).
-    #[inline]
-    pub(crate) fn prefetch_flow_offset(&self, fu: u32) {
-        self.base.needed.prefetch_offset(fu);
-    }
-
     /// Brings in where the row of [`Prepared::needed_by`] of `o` starts, or the row (reading
     /// where it starts) with `row` (a hint).
     #[inline]
@@ -408,10 +402,15 @@ impl Prepared {
         }
     }
 
-    /// Brings in the row of [`Prepared::flow`] of `fu` (a hint; reads where it starts).
+    /// Brings in where the row of [`Prepared::flow`] of `fu` starts, or the row (reading
+    /// where it starts) with `row` (a hint).
     #[inline]
-    pub(crate) fn prefetch_flow(&self, fu: u32) {
-        self.base.needed.prefetch_row(fu);
+    pub(crate) fn prefetch_flow(&self, fu: u32, row: bool) {
+        if row {
+            self.base.needed.prefetch_row(fu);
+        } else {
+            self.base.needed.prefetch_offset(fu);
+        }
     }
 
     /// [`Foon::is_bare`] of object `o` of the FOON these inputs were prepared for.

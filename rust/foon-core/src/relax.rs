@@ -166,10 +166,10 @@ impl Changed {
             let at = &index_of(index)[u];
             if value {
                 if let Some(l) = locals.get(*at as usize) {
-                    crate::index::csr::prefetch(l);
+                    crate::hint::prefetch(l);
                 }
             } else {
-                crate::index::csr::prefetch(at);
+                crate::hint::prefetch(at);
             }
         }
     }
@@ -506,10 +506,10 @@ impl Relax {
                 // a row starts, the row, the values it reads), so that the misses of several
                 // units overlap instead of each waiting for the one before.
                 if let Some(&g) = units.get(i + 4 * AHEAD) {
-                    prep.prefetch_flow_offset(g);
+                    prep.prefetch_flow(g, false);
                 }
                 if let Some(&g) = units.get(i + 3 * AHEAD) {
-                    prep.prefetch_flow(g);
+                    prep.prefetch_flow(g, true);
                 }
                 if let Some(&g) = units.get(i + 2 * AHEAD) {
                     let (needed, outputs) = prep.flow(g);

@@ -3,23 +3,7 @@
 
 use super::col::Col;
 use crate::error::{Error, Result};
-
-/// Asks the processor to bring the cache line of `x` in (a hint: no effect on what the
-/// program computes, and none at all where the target has no such instruction).
-#[inline]
-#[allow(unsafe_code)]
-pub(crate) fn prefetch<T>(x: &T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing and writes nothing (it cannot fault, whatever the
-    // address); `sse`, which it needs, is part of every x86-64 processor.
-    unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-            std::ptr::from_ref(x).cast::<i8>(),
-        );
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
-}
+use crate::hint::prefetch;
 
 /// Compressed sparse rows: row `i` is `data[off[i]..off[i + 1]]`.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]

@@ -7,7 +7,7 @@
 
 mod build;
 mod col;
-pub(crate) mod csr;
+mod csr;
 pub mod file;
 pub mod hash;
 mod interner;
