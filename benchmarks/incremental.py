@@ -71,6 +71,10 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--check-goals", type=int, default=200)
     ap.add_argument("--work")
+    ap.add_argument("--write-ids", action="store_true",
+                    help="also write each seed's drawn object ids to the work folder "
+                         "(raw<seed>.ids, rem<seed>.ids, made<seed>.ids: one id per line, "
+                         "for examples/delta_time.rs)")  # fmt: skip
     args = ap.parse_args()
     n = parse_size(args.units)
     work = Path(args.work or tempfile.mkdtemp(prefix="foon-incremental-"))
@@ -112,7 +116,15 @@ def main() -> None:
         half = args.delta // 2
         adds = [f.object(o) for o in rnd.sample(raw, args.delta)]
         removes = rnd.sample(items, args.delta)
-        made_adds = [f.object(o) for o in rnd.sample(made, args.delta)]
+        made_ids = rnd.sample(made, args.delta)
+        made_adds = [f.object(o) for o in made_ids]
+        if args.write_ids:
+            for stem, ids in (
+                ("raw", [f.find(o) for o in adds]),
+                ("rem", [f.find(o) for o in removes]),
+                ("made", made_ids),
+            ):
+                (work / f"{stem}{seed}.ids").write_text("".join(f"{o}\n" for o in ids))
         for kind, add, remove in (
             ("additions (raw items)", adds, []),
             ("removals", [], removes),
