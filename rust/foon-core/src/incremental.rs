@@ -23,6 +23,7 @@ use rustc_hash::FxHashSet;
 
 use crate::error::{Error, Result};
 use crate::forward::Ranks;
+use crate::hint::Ahead;
 use crate::index::{Foon, NONE};
 use crate::kitchen::Kitchen;
 use crate::layered::Layered;
@@ -172,18 +173,6 @@ fn ids_choice_with(foon: &Foon, prep: &Prepared, rank: impl Fn(u32) -> u32, o: u
         .unwrap_or(NONE)
 }
 
-/// The choice of `ids` of object `o`, from the ranks `rank` and the kitchen of `prep`: the
-/// first producer whose value is the object's rank (`NONE` for kitchen objects and objects
-/// that are not derivable), as `search::ids` computes it.
-fn ids_choice_of(foon: &Foon, prep: &Prepared, rank: &Layered<u32>, o: u32) -> u32 {
-    let r = rank.get(o);
-    if r == NONE || prep.in_kitchen(o) {
-        return NONE;
-    }
-    let of = |x: u32| if prep.in_kitchen(x) { 0 } else { rank.get(x) };
-    ids_choice_with(foon, prep, of, o, r)
-}
-
 /// The choice of `ids` after a change (`before`, the choice before it), for the ranks `rank`
 /// of the kitchen of `prep`, `touched` holding every object whose rank or kitchen flag may
 /// have changed. An object's choice is the first producer whose value (one more than the
@@ -200,18 +189,35 @@ fn delta_ids_choice(
     touched: &[u32],
 ) -> Layered<u32> {
     let rank_of = |x: u32| if prep.in_kitchen(x) { 0 } else { rank.get(x) };
-    let value = |f: u32| unit_rank(prep.needed(f), rank_of);
+    // What a unit's value and its outputs' choices read, brought in ahead (a hint).
+    let bring = |needed: &[u32], outputs: &[u32]| {
+        for &x in needed.iter().chain(outputs) {
+            rank.prefetch(x);
+            prep.kitchen_flags().prefetch(x);
+        }
+        for &y in outputs {
+            before.prefetch(y);
+        }
+    };
     let again: FxHashSet<u32> = touched.iter().copied().collect();
-    let mut seen: FxHashSet<u32> = FxHashSet::default();
+    // The units needing a touched object, each once, in unit order (rows read in memory
+    // order, each unit's row and values brought in a few units ahead).
+    let mut units: Vec<u32> = touched
+        .iter()
+        .flat_map(|&x| prep.needed_by(x))
+        .copied()
+        .collect();
+    units.sort_unstable();
+    units.dedup();
     let mut recompute: Vec<u32> = touched.to_vec();
     let mut first: Vec<(u32, u32)> = Vec::new();
-    for &x in touched {
-        for &f in prep.needed_by(x) {
-            if !seen.insert(f) {
-                continue;
-            }
-            let v = value(f);
-            for &y in foon.outputs(f) {
+    // Outputs that are bare have no rank, so no choice: a unit's row holds the others.
+    prep.each_flow_ahead(&units, |at, f, needed, outputs| match at {
+        Ahead::Far => bring(needed, outputs),
+        Ahead::Near => {}
+        Ahead::Now => {
+            let v = unit_rank(needed, rank_of);
+            for &y in outputs {
                 if again.contains(&y) {
                     continue;
                 }
@@ -227,17 +233,48 @@ fn delta_ids_choice(
                 }
             }
         }
-    }
+    });
     let mut choice = before.edit();
     for &(y, f) in &first {
         if f < choice.get(y) {
             choice.set(y, f);
         }
     }
-    // Last: a choice computed again wins over a unit found above.
+    // Last: a choice computed again wins over a unit found above. The producers of the
+    // objects computed again are read as one pipeline, in order, each object's first
+    // producer that achieves its rank kept (kitchen objects and objects without a rank have
+    // no choice).
+    let mut producers: Vec<u32> = Vec::new();
+    // Per producer read: the object it may be the choice of, and that object's rank.
+    let mut owner: Vec<(u32, u32)> = Vec::new();
     for y in recompute {
-        choice.set(y, ids_choice_of(foon, prep, rank, y));
+        choice.set(y, NONE);
+        let r = rank.get(y);
+        if r == NONE || prep.in_kitchen(y) {
+            continue;
+        }
+        for &f in foon.producers(y) {
+            producers.push(f);
+            owner.push((y, r));
+        }
     }
+    let mut at = 0;
+    prep.each_flow_ahead(&producers, |step, f, needed, _| match step {
+        Ahead::Far => {
+            for &x in needed {
+                rank.prefetch(x);
+                prep.kitchen_flags().prefetch(x);
+            }
+        }
+        Ahead::Near => {}
+        Ahead::Now => {
+            let (y, r) = owner[at];
+            at += 1;
+            if choice.get(y) == NONE && unit_rank(needed, rank_of) == r {
+                choice.set(y, f);
+            }
+        }
+    });
     choice.finish()
 }
 

@@ -11,6 +11,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::error::{Error, Result};
 use crate::forward;
+use crate::hint::{AHEAD, Ahead};
 
 pub use crate::forward::Ranks;
 use crate::incremental::Pending;
@@ -410,6 +411,37 @@ impl Prepared {
             self.base.needed.prefetch_row(fu);
         } else {
             self.base.needed.prefetch_offset(fu);
+        }
+    }
+
+    /// Calls `visit` on the row of [`Prepared::flow`] of each unit of `units` in order
+    /// ([`Ahead::Now`]), and before, as a pipeline, on the rows of the units a few steps
+    /// ahead ([`Ahead::Far`], [`Ahead::Near`]) so that it can bring in the values it will
+    /// read (the rows themselves, and where they start, are brought in before that): the
+    /// misses of several units overlap instead of each waiting for the one before.
+    #[inline]
+    pub(crate) fn each_flow_ahead(
+        &self,
+        units: &[u32],
+        mut visit: impl FnMut(Ahead, u32, &[u32], &[u32]),
+    ) {
+        for (i, &f) in units.iter().enumerate() {
+            if let Some(&g) = units.get(i + 4 * AHEAD) {
+                self.prefetch_flow(g, false);
+            }
+            if let Some(&g) = units.get(i + 3 * AHEAD) {
+                self.prefetch_flow(g, true);
+            }
+            if let Some(&g) = units.get(i + 2 * AHEAD) {
+                let (needed, outputs) = self.flow(g);
+                visit(Ahead::Far, g, needed, outputs);
+            }
+            if let Some(&g) = units.get(i + AHEAD) {
+                let (needed, outputs) = self.flow(g);
+                visit(Ahead::Near, g, needed, outputs);
+            }
+            let (needed, outputs) = self.flow(f);
+            visit(Ahead::Now, f, needed, outputs);
         }
     }
 

@@ -46,6 +46,7 @@
 use rustc_hash::FxHashMap;
 
 use crate::error::Result;
+use crate::hint::{AHEAD, Ahead};
 use crate::index::{Foon, NONE};
 use crate::prepare::{Prepared, Slot};
 use crate::search::optimal::{Entry, better, lower, tie_depth};
@@ -268,11 +269,6 @@ impl Changed {
 /// `STOP_EVERY` objects, between two levels (every level in the unit tests, so that they stop
 /// passes anywhere).
 const STOP_EVERY: usize = if cfg!(test) { 1 } else { 4096 };
-
-/// How many units ahead of the one computed a level's pass brings in the values it changed
-/// that it will read (twice as far, where they are kept and the values before the change;
-/// three and four times as far, the rows and where they start).
-const AHEAD: usize = 4;
 
 /// How far [`Relax::advance`] went.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -501,38 +497,27 @@ impl Relax {
                 units.sort_unstable();
                 units.dedup();
             }
-            for (i, &f) in units.iter().enumerate() {
-                // The rows of the units a few steps ahead are brought in as a pipeline (where
-                // a row starts, the row, the values it reads), so that the misses of several
-                // units overlap instead of each waiting for the one before.
-                if let Some(&g) = units.get(i + 4 * AHEAD) {
-                    prep.prefetch_flow(g, false);
-                }
-                if let Some(&g) = units.get(i + 3 * AHEAD) {
-                    prep.prefetch_flow(g, true);
-                }
-                if let Some(&g) = units.get(i + 2 * AHEAD) {
-                    let (needed, outputs) = prep.flow(g);
+            // One row per unit: its needed inputs and its outputs that are not bare.
+            prep.each_flow_ahead(&units, |at, f, needed, outputs| match at {
+                Ahead::Far => {
                     for &x in needed.iter().chain(outputs) {
                         rules.prefetch(x);
                         self.local.prefetch(x, false);
                     }
                 }
-                if let Some(&g) = units.get(i + AHEAD) {
-                    let (needed, outputs) = prep.flow(g);
+                Ahead::Near => {
                     for &x in needed.iter().chain(outputs) {
                         self.local.prefetch(x, true);
                     }
                 }
-                // One row: the unit's needed inputs and its outputs that are not bare.
-                let (needed, outputs) = prep.flow(f);
-                let Some((c, d)) = self.unit(rules, f, needed) else {
-                    continue;
-                };
-                for &y in outputs {
-                    self.offer(rules, y, f, c, d);
+                Ahead::Now => {
+                    if let Some((c, d)) = self.unit(rules, f, needed) {
+                        for &y in outputs {
+                            self.offer(rules, y, f, c, d);
+                        }
+                    }
                 }
-            }
+            });
             self.level = level;
             self.units = units;
         }
