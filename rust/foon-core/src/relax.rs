@@ -99,9 +99,9 @@ struct Local {
 /// The values the pass changed: in a hash map (marked by one bit per object) while they are
 /// few, then in an array of them indexed by an array over every object once they pass a
 /// share of the FOON ([`DENSE_SHARE`]): no rehash as they grow, and the index costs 4 bytes
-/// per object, in zeroed pages that the system provides when first touched (a pass that
-/// reaches objects all over the FOON touches most of them). A pending update that is kept
-/// costs memory in proportion to what it changed.
+/// per object, in an anonymous mapping kept for the next pass once this one ends
+/// ([`INDEX_POOL`]). A pending update that is kept costs memory in proportion to what it
+/// changed.
 struct Changed {
     /// One bit per object: whether it is present (read first: it stays in the caches).
     bits: Vec<u64>,
@@ -110,24 +110,71 @@ struct Changed {
 
 enum Values {
     Sparse(FxHashMap<u32, Local>),
-    /// Per object present: its position in `locals` and `present` (an anonymous mapping,
-    /// read only where `bits` says the object is present); the values, and the objects, in
-    /// the order they were first changed.
+    /// Per object present: its position in `locals` and `present` (read only where `bits`
+    /// says the object is present); the values, and the objects, in the order they were
+    /// first changed.
     Dense {
-        index: memmap2::MmapMut,
+        index: Index,
         locals: Vec<Local>,
         present: Vec<u32>,
     },
 }
 
-#[inline]
-fn index_of(words: &[u8]) -> &[u32] {
-    bytemuck::cast_slice(words)
+/// The index of a dense store: 4 bytes per object in an anonymous mapping, kept for the next
+/// pass when this one ends (see [`INDEX_POOL`]).
+struct Index(Option<memmap2::MmapMut>);
+
+/// Indexes of passes that ended, kept for the next passes over a FOON of the same size (a
+/// few: as many as passes run at once in a batch). A pass that reaches objects all over the
+/// FOON writes an entry in most pages of its index, and the system zeroes each page as it is
+/// first touched; a kept index costs none of that. What an earlier pass left in it is never
+/// read: an entry is read only for an object that `bits` marks present, and every such
+/// object's entry was written by this pass.
+static INDEX_POOL: std::sync::Mutex<Vec<memmap2::MmapMut>> = std::sync::Mutex::new(Vec::new());
+const INDEX_POOL_KEEP: usize = 4;
+
+impl Index {
+    /// An index of `bytes` bytes (4 per object): a kept one, else a new mapping (`None`
+    /// without memory).
+    fn take(bytes: usize) -> Option<Self> {
+        let kept = INDEX_POOL.lock().ok().and_then(|mut pool| {
+            let i = pool.iter().position(|m| m.len() == bytes)?;
+            Some(pool.swap_remove(i))
+        });
+        match kept {
+            Some(m) => Some(Self(Some(m))),
+            None => memmap2::MmapMut::map_anon(bytes)
+                .ok()
+                .map(|m| Self(Some(m))),
+        }
+    }
+
+    #[inline]
+    fn get(&self) -> &[u32] {
+        self.0.as_deref().map_or(&[], bytemuck::cast_slice)
+    }
+
+    #[inline]
+    fn get_mut(&mut self) -> &mut [u32] {
+        self.0
+            .as_deref_mut()
+            .map_or(&mut [], bytemuck::cast_slice_mut)
+    }
+
+    fn len(&self) -> usize {
+        self.0.as_ref().map_or(0, |m| m.len())
+    }
 }
 
-#[inline]
-fn index_of_mut(words: &mut [u8]) -> &mut [u32] {
-    bytemuck::cast_slice_mut(words)
+impl Drop for Index {
+    fn drop(&mut self) {
+        if let (Some(m), Ok(mut pool)) = (self.0.take(), INDEX_POOL.lock()) {
+            if pool.len() >= INDEX_POOL_KEEP {
+                pool.remove(0);
+            }
+            pool.push(m);
+        }
+    }
 }
 
 /// A pass that changes more than one object in `DENSE_SHARE` of the FOON (and more than
@@ -152,7 +199,7 @@ impl Changed {
         }
         match &self.values {
             Values::Sparse(map) => map.get(&o).copied(),
-            Values::Dense { index, locals, .. } => Some(locals[index_of(index)[u] as usize]),
+            Values::Dense { index, locals, .. } => Some(locals[index.get()[u] as usize]),
         }
     }
 
@@ -164,7 +211,7 @@ impl Changed {
         if let Values::Dense { index, locals, .. } = &self.values
             && (self.bits[u >> 6] >> (u & 63)) & 1 != 0
         {
-            let at = &index_of(index)[u];
+            let at = &index.get()[u];
             if value {
                 if let Some(l) = locals.get(*at as usize) {
                     crate::hint::prefetch(l);
@@ -194,11 +241,11 @@ impl Changed {
                 present,
             } => {
                 if new {
-                    index_of_mut(index)[u] = locals.len() as u32;
+                    index.get_mut()[u] = locals.len() as u32;
                     locals.push(l);
                     present.push(o);
                 } else {
-                    locals[index_of(index)[u] as usize] = l;
+                    locals[index.get()[u] as usize] = l;
                 }
             }
         }
@@ -210,7 +257,7 @@ impl Changed {
         let Values::Sparse(map) = &mut self.values else {
             return;
         };
-        let Ok(mut index) = memmap2::MmapMut::map_anon(4 * n) else {
+        let Some(mut index) = Index::take(4 * n) else {
             // No memory for the index: the map goes on.
             return;
         };
@@ -218,7 +265,7 @@ impl Changed {
         let mut locals = Vec::with_capacity(4 * map.len());
         let mut present = Vec::with_capacity(4 * map.len());
         for (o, l) in map {
-            index_of_mut(&mut index)[o as usize] = locals.len() as u32;
+            index.get_mut()[o as usize] = locals.len() as u32;
             locals.push(l);
             present.push(o);
         }
