@@ -4,7 +4,7 @@
 //! entry points are the methods of [`Context`](crate::Context) of the same names. Every
 //! function takes the FOON and inputs prepared for it.
 
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxBuildHasher, FxHashMap};
 
 use crate::index::{Foon, NONE};
 use crate::prepare::Prepared;
@@ -302,7 +302,8 @@ fn global_shape<R>(
         let s = shape(&view, &us, goal, &mut marks, &mut buf);
         then(s, &|x| marks.rank(x) != NONE)
     } else {
-        let mut marks = FxHashMap::default();
+        // Room for the objects of the units (a few per unit) from the start: no rehash.
+        let mut marks = FxHashMap::with_capacity_and_hasher(4 * us.len(), FxBuildHasher);
         let s = shape(&view, &us, goal, &mut marks, &mut buf);
         then(s, &|x| Marks::rank(&marks, x) != NONE)
     }
