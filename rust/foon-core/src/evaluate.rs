@@ -158,6 +158,9 @@ pub(crate) fn shape<V: TreeView, M: Marks>(
     left.resize(units.len(), 0);
     slots.clear();
     queue.clear();
+    // Room for a few needed slots and made objects per unit from the start.
+    slots.reserve(3 * units.len());
+    queue.reserve(2 * units.len());
     let mut leaves = 0;
     for (i, &f) in units.iter().enumerate() {
         for &x in view.needed(f) {
