@@ -125,13 +125,15 @@ enum Values {
 struct Index(Option<memmap2::MmapMut>);
 
 /// Indexes of passes that ended, kept for the next passes over a FOON of the same size (a
-/// few: as many as passes run at once in a batch). A pass that reaches objects all over the
+/// few, as many as passes run at once in a batch, and at most [`INDEX_POOL_BYTES`] in all:
+/// the memory they hold after the last pass). A pass that reaches objects all over the
 /// FOON writes an entry in most pages of its index, and the system zeroes each page as it is
 /// first touched; a kept index costs none of that. What an earlier pass left in it is never
 /// read: an entry is read only for an object that `bits` marks present, and every such
 /// object's entry was written by this pass.
 static INDEX_POOL: std::sync::Mutex<Vec<memmap2::MmapMut>> = std::sync::Mutex::new(Vec::new());
 const INDEX_POOL_KEEP: usize = 4;
+const INDEX_POOL_BYTES: usize = 64 << 20;
 
 impl Index {
     /// An index of `bytes` bytes (4 per object): a kept one, else a new mapping (`None`
@@ -168,8 +170,14 @@ impl Index {
 
 impl Drop for Index {
     fn drop(&mut self) {
-        if let (Some(m), Ok(mut pool)) = (self.0.take(), INDEX_POOL.lock()) {
-            if pool.len() >= INDEX_POOL_KEEP {
+        // An index larger than the whole pool is not kept; the oldest make room for another.
+        if let Some(m) = self.0.take().filter(|m| m.len() <= INDEX_POOL_BYTES)
+            && let Ok(mut pool) = INDEX_POOL.lock()
+        {
+            while !pool.is_empty()
+                && (pool.len() >= INDEX_POOL_KEEP
+                    || pool.iter().map(|k| k.len()).sum::<usize>() + m.len() > INDEX_POOL_BYTES)
+            {
                 pool.remove(0);
             }
             pool.push(m);
@@ -704,5 +712,54 @@ impl Relax {
                 mark,
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A kept index is reused as it was left (its pages not zeroed again), and a store that
+    /// takes it reads only the entries it wrote; an index larger than the pool is not kept.
+    #[test]
+    fn kept_indexes_are_reused_and_never_read_stale() {
+        // A size no other test's FOON has (the pool is shared by the tests' threads).
+        let n = 64 * 15_627;
+        let mut a = Index::take(4 * n).expect("memory for an index");
+        a.get_mut().fill(7);
+        drop(a);
+        let b = Index::take(4 * n).expect("memory for an index");
+        assert!(b.get().iter().all(|&x| x == 7), "the kept index is reused");
+        drop(b);
+        let mut c = Changed::new(n);
+        let local = |o: u32| Local {
+            slot: Slot {
+                cost: f64::from(o),
+                choice: o,
+                depth: 0,
+            },
+            mark: 0,
+        };
+        for o in (0..n as u32).step_by(40) {
+            c.put(o, local(o));
+        }
+        assert!(matches!(c.values, Values::Dense { .. }));
+        for o in 0..n as u32 {
+            match c.get(o) {
+                Some(l) => {
+                    assert!(o % 40 == 0 && l.slot.cost.to_bits() == f64::from(o).to_bits());
+                    assert_eq!(l.slot.choice, o);
+                }
+                None => assert!(o % 40 != 0, "{o}"),
+            }
+        }
+        assert_eq!(c.len(), n.div_ceil(40));
+        drop(c);
+        let big = INDEX_POOL_BYTES + 4;
+        drop(Index::take(big).expect("memory for an index"));
+        let pool = INDEX_POOL.lock().expect("the pool's lock");
+        assert!(pool.iter().all(|m| m.len() != big));
+        assert!(pool.len() <= INDEX_POOL_KEEP);
+        assert!(pool.iter().map(|m| m.len()).sum::<usize>() <= INDEX_POOL_BYTES);
     }
 }
