@@ -396,22 +396,14 @@ impl Prepared {
     /// where it starts) with `row` (a hint).
     #[inline]
     pub(crate) fn prefetch_needed_by(&self, o: u32, row: bool) {
-        if row {
-            self.base.needed_by.prefetch_row(o);
-        } else {
-            self.base.needed_by.prefetch_offset(o);
-        }
+        self.base.needed_by.prefetch(o, row);
     }
 
     /// Brings in where the row of [`Prepared::flow`] of `fu` starts, or the row (reading
     /// where it starts) with `row` (a hint).
     #[inline]
     pub(crate) fn prefetch_flow(&self, fu: u32, row: bool) {
-        if row {
-            self.base.needed.prefetch_row(fu);
-        } else {
-            self.base.needed.prefetch_offset(fu);
-        }
+        self.base.needed.prefetch(fu, row);
     }
 
     /// Calls `visit` on the row of [`Prepared::flow`] of each unit of `units` in order

@@ -64,22 +64,16 @@ impl Csr {
         }
     }
 
-    /// Brings in the offset of row `i` ([`prefetch`]).
+    /// Brings in where row `i` starts, or with `row` its first entries (reading where it
+    /// starts) ([`prefetch`]: a hint).
     #[inline]
-    pub(crate) fn prefetch_offset(&self, i: u32) {
-        if let Some(a) = self.off.get(i as usize) {
+    pub(crate) fn prefetch(&self, i: u32, row: bool) {
+        let Some(a) = self.off.get(i as usize) else {
+            return;
+        };
+        if !row {
             prefetch(a);
-        }
-    }
-
-    /// Brings in the first entries of row `i` ([`prefetch`]; its offset is read).
-    #[inline]
-    pub(crate) fn prefetch_row(&self, i: u32) {
-        if let Some(x) = self
-            .off
-            .get(i as usize)
-            .and_then(|&a| self.data.get(a as usize))
-        {
+        } else if let Some(x) = self.data.get(*a as usize) {
             prefetch(x);
         }
     }
