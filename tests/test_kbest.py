@@ -292,6 +292,43 @@ def test_bad_arguments() -> None:
         p.paths(g, max_trees=-1)
 
 
+def test_counts_and_limits_name_their_argument() -> None:
+    """Every count or limit argument: a negative one or a bool is refused with its name; one
+    too large for the core is no limit (the same result as none)."""
+    ex = foon.example()
+    p = ex.foon.planner(ex.kitchen, utensils=ex.utensils)
+    g = ex.goals[0]
+    huge = 2**70
+    calls = {
+        "k": lambda v: p.plan_k(g, v),
+        "node_limit": lambda v: [p.plan(g, "optimal-shared", node_limit=v)],
+        "max_trees": lambda v: list(p.paths(g, max_trees=v, max_height=4)),
+        "max_height": lambda v: list(p.paths(g, max_trees=5, max_height=v)),
+    }
+    unbounded = {
+        "k": 10**6,
+        "node_limit": None,
+        "max_trees": None,
+        "max_height": None,
+    }
+    for name, call in calls.items():
+        for bad in (-1, -huge):
+            with pytest.raises(ValueError, match=f"^{name} must (not be negative|be at least 1), "):
+                call(bad)
+        with pytest.raises(TypeError, match=f"^{name} must be an int.*, not bool$"):
+            call(True)
+        with pytest.raises(TypeError, match=f"^{name} must be an int.*, not str$"):
+            call("3")
+        big = [(t.units, t.cost) for t in call(huge)]
+        assert big == [(t.units, t.cost) for t in call(unbounded[name])], name
+        assert big, name
+    with pytest.raises(ValueError, match=r"^k must not be negative, not -1$"):
+        ex.foon.find_similar("onion", -1)
+    with pytest.raises(TypeError, match=r"^k must be an int, not bool$"):
+        ex.foon.find_similar("onion", True)  # type: ignore[arg-type]
+    assert ex.foon.find_similar("onion", huge) == ex.foon.find_similar("onion", 10**6)
+
+
 @pytest.mark.parametrize("method", OPTIMAL)
 def test_course_goals(course: Course, method: str) -> None:
     """On the course FOON: k = 1 is the optimal plan, costs never decrease, the sets are

@@ -212,8 +212,6 @@ _indexes: weakref.WeakKeyDictionary[Foon, _foon.FindIndex] = weakref.WeakKeyDict
 def find_similar(foon: Foon, text: str, k: int) -> list[Similar]:
     if not isinstance(text, str):
         raise TypeError(f"text must be a str, not {type(text).__name__}")
-    if isinstance(k, bool) or not isinstance(k, int) or k < 0:
-        raise ValueError(f"k must be a non-negative int, not {k!r}")
     index = _indexes.get(foon)
     if index is None:
         index = _foon.FindIndex(foon._native)

@@ -98,28 +98,12 @@ _new = object.__new__
 
 
 def plan_k(planner: Planner, goal: int, k: int, method: str, diverse: bool) -> list[RankedTree]:
-    if isinstance(k, bool) or not isinstance(k, int):
-        raise TypeError(f"k must be an int, not {type(k).__name__}")
-    if k < 1:
-        raise ValueError(f"k must be at least 1, not {k}")
     plans = _foon.plan_k(planner._native, goal, method, k, diverse)
     return [_lazy(i, p, planner) for i, p in enumerate(plans, 1)]
-
-
-def _limit(name: str, v: int | None) -> int | None:
-    if v is None:
-        return None
-    if isinstance(v, bool) or not isinstance(v, int):
-        raise TypeError(f"{name} must be an int or None, not {type(v).__name__}")
-    if v < 0:
-        raise ValueError(f"{name} must not be negative, not {v}")
-    return v
 
 
 def paths(
     planner: Planner, goal: int, max_trees: int | None, max_height: int | None
 ) -> Iterator[RankedTree]:
-    it = _foon.Paths(
-        planner._native, goal, _limit("max_trees", max_trees), _limit("max_height", max_height)
-    )
+    it = _foon.Paths(planner._native, goal, max_trees, max_height)
     return _ranked(planner, it)

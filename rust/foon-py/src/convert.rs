@@ -110,6 +110,80 @@ pub(crate) fn fu_index(foon: &foon_core::Foon, v: &Bound<'_, PyAny>) -> PyResult
     index_arg(v, "functional unit", foon.fu_count(), "")
 }
 
+/// A count or a limit (`k`, `node_limit`, `max_trees`, ...): an `int` at least `least`, or
+/// `None` where the argument may be left out. An `int` too large for the native type is its
+/// largest value (no count or limit reaches it); a `bool` is not a count.
+pub(crate) fn count_arg<T: TryFrom<u64> + Bounded>(
+    name: &str,
+    v: Option<&Bound<'_, PyAny>>,
+    least: u64,
+) -> PyResult<Option<T>> {
+    match v.filter(|v| !v.is_none()) {
+        None => Ok(None),
+        Some(v) => count(name, v, least, "an int or None").map(Some),
+    }
+}
+
+/// A count that may not be left out ([`count_arg`]).
+pub(crate) fn required_count<T: TryFrom<u64> + Bounded>(
+    name: &str,
+    v: &Bound<'_, PyAny>,
+    least: u64,
+) -> PyResult<T> {
+    count(name, v, least, "an int")
+}
+
+fn count<T: TryFrom<u64> + Bounded>(
+    name: &str,
+    v: &Bound<'_, PyAny>,
+    least: u64,
+    expected: &str,
+) -> PyResult<T> {
+    let wrong_type =
+        || PyTypeError::new_err(format!("{name} must be {expected}, not {}", type_name(v)));
+    if v.is_instance_of::<PyBool>() {
+        return Err(wrong_type());
+    }
+    let too_small = || {
+        PyValueError::new_err(if least == 0 {
+            format!("{name} must not be negative, not {v}")
+        } else {
+            format!("{name} must be at least {least}, not {v}")
+        })
+    };
+    let n = match v.extract::<i64>() {
+        Ok(n) => u64::try_from(n).map_err(|_| too_small())?,
+        Err(e) if e.is_instance_of::<PyOverflowError>(v.py()) => {
+            if v.lt(0)? {
+                return Err(too_small());
+            }
+            u64::MAX
+        }
+        Err(_) => return Err(wrong_type()),
+    };
+    if n < least {
+        return Err(too_small());
+    }
+    Ok(T::try_from(n).unwrap_or(T::MAX))
+}
+
+/// The largest value of a native count type ([`count_arg`]).
+pub(crate) trait Bounded {
+    const MAX: Self;
+}
+
+impl Bounded for u64 {
+    const MAX: Self = u64::MAX;
+}
+
+impl Bounded for usize {
+    const MAX: Self = usize::MAX;
+}
+
+impl Bounded for u32 {
+    const MAX: Self = u32::MAX;
+}
+
 /// The `threads` argument: `None` or a positive `int`. Zero is refused by the core's batch
 /// options; a negative or huge `int` here, with the same kind of message.
 pub(crate) fn threads_arg(v: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {

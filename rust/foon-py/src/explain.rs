@@ -11,7 +11,7 @@ use foon_core::{Context, Query};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::convert::{ObjTuple, spec_of, str_field};
+use crate::convert::{ObjTuple, required_count, spec_of, str_field};
 use crate::errors::{PyFoonErr, enter, enter_here};
 use crate::foon::{PyFoon, check_object};
 use crate::plan::PyPlan;
@@ -151,15 +151,16 @@ impl PyFindIndex {
     }
 
     /// The `k` objects most similar to `text`, best first: (object id, score).
-    fn find(&self, py: Python<'_>, text: &str, k: usize) -> Vec<(u32, f64)> {
+    fn find(&self, py: Python<'_>, text: &str, k: &Bound<'_, PyAny>) -> PyResult<Vec<(u32, f64)>> {
+        let k: usize = required_count("k", k, 0)?;
         let (foon, index) = (&*self.foon, &self.index);
-        py.detach(|| {
+        Ok(py.detach(|| {
             index
                 .find(foon, text, k)
                 .into_iter()
                 .map(|f| (f.object, f.score))
                 .collect()
-        })
+        }))
     }
 }
 

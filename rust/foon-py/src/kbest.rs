@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 use foon_core::{Context, Method, Paths, Prepared};
 use pyo3::prelude::*;
 
-use crate::convert::str_field;
+use crate::convert::{count_arg, required_count, str_field};
 use crate::errors::{PyFoonErr, enter_here};
 use crate::foon::check_object;
 use crate::plan::PyPlan;
@@ -21,9 +21,10 @@ pub(crate) fn plan_k(
     planner: &PyPlanner,
     goal: u32,
     method: &Bound<'_, PyAny>,
-    k: usize,
+    k: &Bound<'_, PyAny>,
     diverse: bool,
 ) -> PyResult<Vec<Py<PyPlan>>> {
+    let k: usize = required_count("k", k, 1)?;
     check_object(&planner.foon, goal)?;
     let method: Method = str_field("method", method)?.parse().map_err(PyFoonErr)?;
     let (foon, prep) = (&*planner.foon, &*planner.prep);
@@ -55,9 +56,11 @@ impl PyPaths {
         py: Python<'_>,
         planner: &PyPlanner,
         goal: u32,
-        max_trees: Option<usize>,
-        max_height: Option<u32>,
+        max_trees: Option<&Bound<'_, PyAny>>,
+        max_height: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let max_trees = count_arg("max_trees", max_trees, 0)?;
+        let max_height = count_arg("max_height", max_height, 0)?;
         check_object(&planner.foon, goal)?;
         let (foon, prep) = (&*planner.foon, &*planner.prep);
         let state = enter_here(py, |cancel| {

@@ -7,7 +7,7 @@ use foon_core::search::batch::{self, BatchOptions};
 use foon_core::{Context, Prepared, Query, SharedObjective, SharedOptions};
 use pyo3::prelude::*;
 
-use crate::convert::{rate_arg, rate_pairs_arg, str_field, str_list_field, threads_arg};
+use crate::convert::{count_arg, rate_arg, rate_pairs_arg, str_field, str_list_field, threads_arg};
 use crate::errors::{Cancel, PyFoonErr, enter, enter_here};
 use crate::foon::{PyFoon, check_fu, check_object};
 use crate::kitchen::PyKitchen;
@@ -78,10 +78,11 @@ impl PyPlanner {
         count: &Bound<'_, PyAny>,
         threads: Option<&Bound<'_, PyAny>>,
         objective: Option<&Bound<'_, PyAny>>,
-        node_limit: Option<u64>,
+        node_limit: Option<&Bound<'_, PyAny>>,
         time_limit: Option<f64>,
     ) -> PyResult<Vec<Py<PyPlan>>> {
         let threads = threads_arg(threads)?;
+        let node_limit = count_arg("node_limit", node_limit, 0)?;
         let shared = SharedOptions {
             objective: match objective {
                 Some(o) => str_field("objective", o)?.parse().map_err(PyFoonErr)?,
