@@ -281,6 +281,22 @@ def test_bad_files_are_errors_before_any_output(data: Data, tmp_path: Path) -> N
     assert not (tmp_path / "o").exists()
 
 
+def test_a_lost_base_kitchen_is_an_error_of_the_set(data: Data, tmp_path: Path) -> None:
+    """A kitchen set whose base file cannot be read: one line naming the set's file, line
+    and column and the file it looked for, before any output."""
+    sets = tmp_path / "sets"
+    sets.mkdir()
+    (sets / "kitchens.json").write_text('{"kitchens": {"a": {}},\n "base": "gone.json"}\n')
+    out = tmp_path / "out"
+    with pytest.raises(foon.ParseError) as err:
+        foon.batch(data.parquet, foon=data.index, kitchens=sets / "kitchens.json", out=out)
+    message = str(err.value)
+    assert message.startswith(f"{sets / 'kitchens.json'}:2:10: "), message
+    assert f"the base kitchen 'gone.json' cannot be read ({sets / 'gone.json'}: " in message
+    assert len(message.splitlines()) == 1
+    assert not out.exists()
+
+
 def test_settings_are_checked_before_any_output(data: Data, tmp_path: Path) -> None:
     for rate in (2.0, -0.5, float("nan")):
         with pytest.raises(ValueError, match="default rate"):

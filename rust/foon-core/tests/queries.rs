@@ -123,6 +123,23 @@ fn kitchen_sets_are_read_from_folders_and_relative_bases() {
         e.starts_with(&format!("{}:2:", dir.join("bad.json").display())),
         "{e}"
     );
+    // A base that cannot be read: an error of the set, at its 'base' field, naming both.
+    std::fs::write(
+        dir.join("lost.json"),
+        "{\"kitchens\": {\"k\": {}},\n \"base\": \"gone.json\"}",
+    )
+    .unwrap();
+    let e = KitchenSet::load(&dir.join("lost.json"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!(
+            "{}:2:10: kitchen error: the base kitchen 'gone.json' cannot be read ({}: ",
+            dir.join("lost.json").display(),
+            dir.join("gone.json").display()
+        )),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -292,7 +292,20 @@ impl KitchenSet {
             let rel: String = serde_json::from_str(base.get())
                 .map_err(|e| at_error(text, path, offset(text, base), e.to_string()))?;
             let dir = path.and_then(Path::parent).unwrap_or(Path::new(""));
-            Kitchen::load(&dir.join(rel))?
+            // A base that cannot be read is an error of the set, at its 'base' field; one
+            // that is malformed, of the base's own file.
+            Kitchen::load(&dir.join(&rel)).map_err(|e| match e {
+                Error::Io { path: p, source } => at_error(
+                    text,
+                    path,
+                    offset(text, base),
+                    format!(
+                        "the base kitchen '{rel}' cannot be read ({}: {source})",
+                        p.display()
+                    ),
+                ),
+                e => e,
+            })?
         } else {
             kitchen_at(text, base, path)?
         };
