@@ -127,6 +127,7 @@ def test_changes_chain_builds_its_kitchen_on_first_use() -> None:
     gc.collect()
     assert first() is None
     assert p.kitchen == want
+    assert [o._fields() for o in p.kitchen] == [o._fields() for o in want]  # order and forms
     fresh = foon.Planner(f, want)
     assert p == fresh and p.ranks() == fresh.ranks()
     for g in range(f.object_count):

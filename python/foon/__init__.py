@@ -1554,9 +1554,8 @@ class Planner:
         k = self._kitchen
         if k is None:
             assert self._changes is not None
-            k, steps = self._changes
-            for adding, removing in steps:
-                k = k.without(removing).with_items(adding)
+            start, steps = self._changes
+            k = _kitchen(start._native.with_steps([(a._native, r._native) for a, r in steps]))
             self._kitchen, self._changes = k, None
         return k
 

@@ -357,14 +357,15 @@ impl Kitchen {
         )
     }
 
-    /// Copies item `i` of `from` into `self` (unless its identity is here already).
-    fn push_item(&mut self, from: &Self, i: usize) {
+    /// Copies item `i` of `from` into `self` (unless its identity is here already); whether
+    /// it was added.
+    fn push_item(&mut self, from: &Self, i: usize) -> bool {
         self.push(
             from.label(i),
             from.states(i),
             from.ingredients(i),
             from.container(i),
-        );
+        )
     }
 
     /// A kitchen of the items of `self` whose identity is not an item of `drop`, in order.
@@ -386,6 +387,60 @@ impl Kitchen {
         k.fingerprint = OnceLock::new();
         for i in 0..add.len() {
             k.push_item(add, i);
+        }
+        k.finish()
+    }
+
+    /// The kitchen after a chain of changes, each `(add, remove)` step [`Kitchen::without`]
+    /// the items of `remove`, then [`Kitchen::with`] those of `add`: the same items, in the
+    /// same order and forms, as those calls made step after step, in time proportional to
+    /// the items of `self` and of the steps rather than to the steps times the kitchen.
+    pub fn with_steps(&self, steps: &[(&Self, &Self)]) -> Result<Self> {
+        // Every identity seen (the items of `seen`, in the order first seen), with whether it
+        // is in the kitchen, when it last came in (the order of the result) and the item it
+        // came in as (its form): (0, i) for item i of `self`, (s + 1, i) for item i of step
+        // s's `add`.
+        let mut seen = self.clone();
+        let n = self.len();
+        let mut present = vec![true; n];
+        let mut since: Vec<usize> = (0..n).collect();
+        let mut form: Vec<(usize, usize)> = (0..n).map(|i| (0, i)).collect();
+        let mut clock = n;
+        for (s, &(add, remove)) in steps.iter().enumerate() {
+            for r in 0..remove.len() {
+                if let Some(j) = seen.position_of(remove, r) {
+                    present[j] = false;
+                }
+            }
+            for a in 0..add.len() {
+                let j = match seen.position_of(add, a) {
+                    Some(j) if present[j] => continue,
+                    Some(j) => j,
+                    None => {
+                        if !seen.push_item(add, a) {
+                            // An identity not found is added unless the kitchen is too large
+                            // for its columns: that error.
+                            seen.too_large = true;
+                            return seen.finish();
+                        }
+                        present.push(true);
+                        since.push(0);
+                        form.push((0, 0));
+                        present.len() - 1
+                    }
+                };
+                present[j] = true;
+                since[j] = clock;
+                form[j] = (s + 1, a);
+                clock += 1;
+            }
+        }
+        let mut order: Vec<usize> = (0..present.len()).filter(|&j| present[j]).collect();
+        order.sort_unstable_by_key(|&j| since[j]);
+        let mut k = Self::new();
+        for j in order {
+            let (from, i) = form[j];
+            k.push_item(if from == 0 { self } else { steps[from - 1].0 }, i);
         }
         k.finish()
     }
@@ -1163,6 +1218,60 @@ mod tests {
             // Text round trip through the JSON form.
             let json = crate::write::json::objects_json(&k.specs()).unwrap();
             prop_assert!(Kitchen::parse(json.as_bytes(), None).unwrap() == k);
+        }
+
+        /// A chain of changes applied at once is the kitchen of its steps applied one by one:
+        /// the same items in the same order and forms (an item removed and added again
+        /// comes back last, in the form it is added in).
+        #[test]
+        fn chains_of_changes_are_their_steps(
+            base in specs(),
+            steps in prop::collection::vec(
+                (
+                    specs(),
+                    specs(),
+                    prop::collection::vec(any::<prop::sample::Index>(), 0..6),
+                    prop::collection::vec(any::<prop::sample::Index>(), 0..6),
+                ),
+                0..6,
+            ),
+        ) {
+            let k = Kitchen::from_specs(&base).unwrap();
+            // Steps that also remove items of the base and add them back in another form
+            // (states and ingredients in reverse order: the same identity).
+            let pick = |at: &[prop::sample::Index], reverse: bool| -> Vec<ObjectSpec> {
+                if base.is_empty() {
+                    return Vec::new();
+                }
+                at.iter()
+                    .map(|i| {
+                        let mut s = base[i.index(base.len())].clone();
+                        if reverse {
+                            s.states.reverse();
+                            s.ingredients.reverse();
+                        }
+                        s
+                    })
+                    .collect()
+            };
+            let kitchens: Vec<(Kitchen, Kitchen)> = steps
+                .iter()
+                .map(|(a, r, again, gone)| {
+                    let (mut a, mut r) = (a.clone(), r.clone());
+                    a.extend(pick(again, true));
+                    r.extend(pick(gone, false));
+                    (Kitchen::from_specs(&a).unwrap(), Kitchen::from_specs(&r).unwrap())
+                })
+                .collect();
+            let mut one_by_one = k.clone();
+            for (a, r) in &kitchens {
+                one_by_one = one_by_one.without(r).with(a).unwrap();
+            }
+            let refs: Vec<(&Kitchen, &Kitchen)> = kitchens.iter().map(|(a, r)| (a, r)).collect();
+            let at_once = k.with_steps(&refs).unwrap();
+            prop_assert_eq!(written(&at_once.specs()), written(&one_by_one.specs()));
+            prop_assert!(at_once == one_by_one);
+            prop_assert_eq!(at_once.fingerprint(), one_by_one.fingerprint());
         }
 
         /// The fingerprint of a kitchen changed by a delta, from the base's, is the changed

@@ -114,6 +114,24 @@ impl PyKitchen {
         Ok(Self::of(enter(py, |_| a.with(b))?))
     }
 
+    /// This kitchen after a chain of `(add, remove)` steps, each `without(remove)` then
+    /// `with_items(add)`, in one pass (`foon_core::Kitchen::with_steps`).
+    fn with_steps(
+        &self,
+        py: Python<'_>,
+        steps: Vec<(PyRef<'_, Self>, PyRef<'_, Self>)>,
+    ) -> PyResult<Self> {
+        let k = &*self.inner;
+        let owned: Vec<(Arc<Kitchen>, Arc<Kitchen>)> = steps
+            .iter()
+            .map(|(a, r)| (Arc::clone(&a.inner), Arc::clone(&r.inner)))
+            .collect();
+        Ok(Self::of(enter(py, |_| {
+            let refs: Vec<(&Kitchen, &Kitchen)> = owned.iter().map(|(a, r)| (&**a, &**r)).collect();
+            k.with_steps(&refs)
+        })?))
+    }
+
     /// The kitchen's compact, platform-independent bytes (for pickling).
     fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
         let k = &*self.inner;
