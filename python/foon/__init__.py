@@ -994,7 +994,8 @@ class Foon:
     @classmethod
     def load(cls, path: PathLike, *, strict: bool = False, progress: bool = False) -> Foon:
         """Reads a FOON file of any dialect, or opens a ``.foonidx`` index file (told by its
-        first bytes, not its name; memory-mapped, not copied). Annotation faults are
+        first bytes, whatever its name; a file named ``.foonidx`` that is not a whole index
+        is an error; memory-mapped, not copied). Annotation faults are
         reported as :class:`FoonWarning` (errors with ``strict=True``). ``progress``: draw a
         bar of the bytes read on stderr while a large file is parsed (for a terminal)."""
         f = cls(_foon.Foon.load(path, strict=strict, progress=progress))

@@ -266,6 +266,39 @@ fn small_index() -> Vec<u8> {
     .index_bytes()
 }
 
+/// A file named `.foonidx` is opened as an index whatever it holds: an empty or text file
+/// is an error, not an empty or parsed FOON; another name with the magic is an index too.
+#[test]
+fn a_file_named_as_an_index_is_one_or_an_error() {
+    let d = scratch("named");
+    let empty = d.join("zero.foonidx");
+    std::fs::write(&empty, b"").unwrap();
+    let e = load_foon(&empty, ParseOptions::default()).unwrap_err();
+    assert!(matches!(e, Error::BadIndex { .. }), "{e}");
+    assert!(
+        e.to_string()
+            .contains("truncated: the header needs 128 bytes"),
+        "{e}"
+    );
+    let text = d.join("text.FOONIDX");
+    std::fs::write(
+        &text,
+        "O\tegg\nS\twhole\nM\tcrack\nO\tegg\nS\tcracked\n//\n",
+    )
+    .unwrap();
+    let e = load_foon(&text, ParseOptions::default()).unwrap_err();
+    assert!(matches!(e, Error::BadIndex { .. }), "{e}");
+    let other = d.join("index.bin");
+    std::fs::write(&other, small_index()).unwrap();
+    assert_eq!(
+        load_foon(&other, ParseOptions::default())
+            .unwrap()
+            .fu_count(),
+        2
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn hostile_headers_are_clear_errors() {
     let good = small_index();

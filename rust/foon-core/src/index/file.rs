@@ -415,6 +415,14 @@ pub fn is_index(data: &[u8]) -> bool {
     data.starts_with(&MAGIC)
 }
 
+/// Whether `path` is named as an index file (`.foonidx`, in any case): such a file is opened
+/// as one, and is an error when it is not (a truncated or empty file included), rather than
+/// read as FOON text.
+pub fn is_index_name(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("foonidx"))
+}
+
 /// Whether the file at `path` starts with the index magic (false when it cannot be read).
 pub fn is_index_file(path: &Path) -> bool {
     use std::io::Read;

@@ -348,8 +348,9 @@ pub fn load_into(
     )
 }
 
-/// Reads a FOON file: an index file (`.foonidx`, told by its magic) is mapped; text or JSON is
-/// parsed (see [`load_into`]: a regular file is read as it is parsed), progress as `ctl` says.
+/// Reads a FOON file: an index file (told by its magic, or by its name: a `.foonidx` file
+/// that is not a whole index is an error) is mapped; text or JSON is parsed (see
+/// [`load_into`]: a regular file is read as it is parsed), progress as `ctl` says.
 pub fn load_foon_with(
     path: &Path,
     opts: ParseOptions,
@@ -362,8 +363,9 @@ pub fn load_foon_with(
     // A regular file is probed for the index magic, then read as it is parsed; a pipe is read
     // once and its bytes tell.
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    let named = crate::index::file::is_index_name(path);
     if meta.is_file() {
-        if crate::index::file::is_index_file(path) {
+        if named || crate::index::file::is_index_file(path) {
             return Foon::open_index(path);
         }
         let mut b = Builder::for_bytes(usize::try_from(meta.len()).unwrap_or(usize::MAX));
@@ -371,7 +373,7 @@ pub fn load_foon_with(
         return b.try_finish();
     }
     let data = read_file(path)?;
-    if crate::index::file::is_index(&data) {
+    if named || crate::index::file::is_index(&data) {
         return Foon::from_index_bytes(&data, path);
     }
     let mut b = Builder::for_bytes(data.len());
@@ -425,8 +427,8 @@ pub fn load_foon(path: &Path, opts: ParseOptions) -> Result<Foon> {
 }
 
 /// As [`load_foon`], calling `cancel` every few thousand lines (see
-/// [`parse_foon_cancellable`]). A file that starts with the index magic is opened as a
-/// `.foonidx` index ([`Foon::open_index`]: memory-mapped, whatever its name); text and JSON
+/// [`parse_foon_cancellable`]). A file that starts with the index magic, or is named
+/// `.foonidx`, is opened as an index ([`Foon::open_index`]: memory-mapped); text and JSON
 /// are parsed into a builder sized from the file's length.
 pub fn load_foon_cancellable(
     path: &Path,
