@@ -195,7 +195,7 @@ def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
     ids = t.column("query_id").to_pylist()
     ids[300] = None
     pq.write_table(t.set_column(0, "query_id", pa.array(ids, pa.string())), p)
-    cases.append((p, ":301: the query has no query_id"))
+    cases.append((p, "null_id.parquet: row 301: the query has no query_id"))
     add("not.parquet", "query_id,kitchen_id\n", "not a readable Parquet file")
     lines = data.csv.read_text().splitlines(keepends=True)
     add(
@@ -264,6 +264,32 @@ def bad_files(folder: Path, data: Data) -> list[tuple[Path, str]]:
         "query_id,kitchen_id,goal,method\nq1,full,x,ids\n,full,x,ids\n",
         "empty_id.csv:3: the query has no query_id",
     )
+    # The line of a row after blank lines and a field over several lines.
+    add(
+        "late_empty_id.csv",
+        'query_id,kitchen_id,goal,method\nq1,full,x,ids\n\n\nq2,full,"a\nb\nc",ids\n'
+        "\n,full,x,ids\n",
+        "late_empty_id.csv:9: the query has no query_id",
+    )
+    # Two objects on one line, whether or not a blank line is in the same block.
+    two = (
+        '{"query_id": "a", "kitchen_id": "k", "goal": "g", "method": "ids"}'
+        '{"query_id": "b", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+    )
+    add("two.jsonl", two, "two.jsonl:1:67: Extra data")
+    add("two_blank.jsonl", two + "\n", "two_blank.jsonl:1:67: Extra data")
+    # A lone surrogate escape in a text field (a goal given as an object included).
+    sur = '{"query_id": "\\ud800", "kitchen_id": "k", "goal": "g", "method": "ids"}\n'
+    add(
+        "surrogate.jsonl",
+        "".join([*jl[:5], sur]),
+        "surrogate.jsonl:6: 'query_id' holds a lone UTF-16 surrogate escape",
+    )
+    add(
+        "surrogate_goal.jsonl",
+        '{"query_id": "a", "kitchen_id": "k", "goal": {"label": "\\udc00"}, "method": "ids"}\n',
+        "surrogate_goal.jsonl:1: 'goal' holds a lone UTF-16 surrogate escape",
+    )
     return cases
 
 
@@ -309,6 +335,8 @@ def test_arguments_are_checked(data: Data, tmp_path: Path) -> None:
         run(data, tmp_path / "o", scheduler="tcp://127.0.0.1:1")
     with pytest.raises(ValueError, match="engine='dask'"):
         run(data, tmp_path / "o", client=object())
+    with pytest.raises(TypeError, match=r"client must be a distributed\.Client, not object"):
+        run(data, tmp_path / "o", engine="dask", client=object())
     with pytest.raises(TypeError, match="resume"):
         run(data, tmp_path / "o", resume="no")
     with pytest.raises(TypeError, match="progress"):
@@ -356,6 +384,30 @@ def test_a_large_csv_with_line_breaks_in_quoted_fields(data: Data, tmp_path: Pat
     assert read_parts(tmp_path / "o").equals(want)
 
 
+def test_a_csv_row_longer_than_a_block(data: Data, tmp_path: Path) -> None:
+    """A row longer than the CSV reader's blocks (a field of megabytes) is read, in its
+    place: the file is read again with larger blocks."""
+    import csv
+
+    from batch_files import query_schema
+
+    rows = [dict(r) for r in data.rows[:300]]
+    rows[200]["kitchen_id"] = "x" * (3 << 20)
+    p = tmp_path / "long.csv"
+    with open(p, "w", encoding="utf-8", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    s = foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o",
+                   motions=data.motions, chunk_size=64)  # fmt: skip
+    table = pa.Table.from_pylist(rows, schema=query_schema())
+    want = _arrow.plan_table(data.foon, data.kitchens, table, motions=data.motions)
+    assert s.queries == 300
+    got = read_parts(tmp_path / "o")
+    assert got.equals(want)
+    assert got.column("failure")[200].as_py() == "unknown-kitchen"
+
+
 def test_overwrite_removes_only_the_batchs_files(data: Data, tmp_path: Path) -> None:
     out = tmp_path / "out"
     out.mkdir()
@@ -376,6 +428,82 @@ def test_overwrite_removes_only_the_batchs_files(data: Data, tmp_path: Path) -> 
     with pytest.raises(ValueError, match="one of the files a batch writes"):
         foon.batch(q, foon=data.index, kitchens=data.kitchens, out=out, resume=False)
     assert q.read_bytes() == before
+
+
+def test_a_query_file_linked_into_the_output_is_never_removed(data: Data, tmp_path: Path
+                                                              ) -> None:  # fmt: skip
+    """A query file reached through a symbolic link, or a hard link, from one of the names
+    a batch writes in its output folder is refused before anything is removed."""
+    out = tmp_path / "out"
+    out.mkdir()
+    elsewhere = tmp_path / "queries.parquet"
+    pq.write_table(data.table, elsewhere)
+    before = elsewhere.read_bytes()
+    inside = out / "part-00000.parquet"
+    inside.symlink_to(elsewhere)
+    outside = tmp_path / "link.parquet"
+    outside.symlink_to(inside)
+    for q in (inside, outside):
+        with pytest.raises(ValueError, match="one of the files a batch writes"):
+            foon.batch(q, foon=data.index, kitchens=data.kitchens, out=out, resume=False)
+    inside.unlink()
+    os.link(elsewhere, inside)
+    with pytest.raises(ValueError, match="one of the files a batch writes"):
+        foon.batch(elsewhere, foon=data.index, kitchens=data.kitchens, out=out, resume=False)
+    assert elsewhere.read_bytes() == before and inside.read_bytes() == before
+    assert sorted(os.listdir(out)) == ["part-00000.parquet"]
+
+
+def test_results_are_ordinary_files(data: Data, tmp_path: Path) -> None:
+    """Partitions and the manifest get the mode of any new file (0o666 less the umask),
+    readable by the workers and readers the umask lets in; a folder with a batch's name
+    in the output is left alone."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".part-00000.parquet.x.tmp").mkdir()
+    old = os.umask(0o022)
+    try:
+        run(data, out)
+    finally:
+        os.umask(old)
+    modes = {n: (out / n).stat().st_mode & 0o777 for n in os.listdir(out) if n.endswith(
+        (".parquet", ".json"))}  # fmt: skip
+    assert len(modes) == 6 and set(modes.values()) == {0o644}, modes
+    assert (out / ".part-00000.parquet.x.tmp").is_dir()
+
+
+def test_the_output_folder_is_not_the_kitchens_folder(data: Data, tmp_path: Path) -> None:
+    folder = tmp_path / "kitchens"
+    folder.mkdir()
+    (folder / "full.json").write_text("[]")
+    with pytest.raises(ValueError, match="the output folder is the folder of kitchens"):
+        foon.batch(data.path("parquet"), foon=data.index, kitchens=folder, out=folder)
+    assert sorted(os.listdir(folder)) == ["full.json"]
+
+
+@pytest.mark.parametrize("edit", ["other file", "out of range", "rows"])
+def test_a_manifest_entry_out_of_its_place_is_an_error(data: Data, tmp_path: Path, edit: str
+                                                       ) -> None:  # fmt: skip
+    """Resume keeps a partition only where its manifest entry is the one its key must be:
+    an entry naming another partition's file, a key past the last partition or a row
+    count that is not the chunk's is a manifest that is not a batch's."""
+    out = tmp_path / "out"
+    run(data, out)
+    m = manifest(out)
+    if edit == "other file":
+        m["partitions"]["00002"] = m["partitions"]["00003"]
+        (out / "part-00002.parquet").unlink()
+        message = "partition '00002' names the file 'part-00003.parquet'"
+    elif edit == "out of range":
+        m["partitions"]["00099"] = dict(m["partitions"]["00001"], file="part-00099.parquet")
+        message = "partition '00099' is not one of its 5"
+    else:
+        m["partitions"]["00001"]["rows"] = 3
+        message = "partition '00001' has 3 rows"
+    (out / _batch.MANIFEST).write_text(json.dumps(m))
+    with pytest.raises(FileExistsError, match=message):
+        run(data, out)
+    assert run(data, out, resume=False).planned_partitions == 5
 
 
 @pytest.mark.parametrize("edit", ["list", "no inputs", "entry", "file"])

@@ -25,8 +25,8 @@ import io
 import json
 import os
 import re
+import secrets
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
@@ -205,15 +205,14 @@ def _select(batch: pa.RecordBatch) -> pa.RecordBatch:
     return batch.select(names)
 
 
-def _null_ids(path: str, batch: pa.RecordBatch, first_row: int, line_of: Callable[[int], int]
-              ) -> None:  # fmt: skip
-    """A row without a query id is an error naming its line."""
+def _null_ids(batch: pa.RecordBatch, first_row: int, place: Callable[[int], str]) -> None:
+    """A row without a query id is an error naming its line (its row, in Parquet)."""
     import pyarrow.compute as pc  # type: ignore[import-untyped]
 
     missing = _missing_ids(batch.column("query_id"))
     if pc.any(missing).as_py():
         i = int(pc.index(missing, True).as_py())
-        raise ValueError(f"{path}:{line_of(first_row + i)}: the query has no query_id")
+        raise ValueError(f"{place(first_row + i)}: the query has no query_id")
 
 
 def _missing_ids(col: Any) -> Any:
@@ -247,9 +246,45 @@ def _parquet_batches(path: str, rows: int, use_threads: bool) -> Iterator[pa.Rec
             raise ValueError(f"{path}: {e}") from None
 
 
+@contextlib.contextmanager
+def _csv_fields_unbounded() -> Iterator[None]:
+    """The ``csv`` module reads fields of any length (as pyarrow's reader does) while in."""
+    import csv
+
+    old = csv.field_size_limit(sys.maxsize)
+    try:
+        yield
+    finally:
+        csv.field_size_limit(old)
+
+
+def _csv_row_line(path: str, row: int) -> int:
+    """The line that data row ``row`` (0-based) of a CSV file starts on: blank lines are not
+    rows (as for pyarrow's reader) and a quoted field may span lines."""
+    import csv
+
+    with _csv_fields_unbounded(), open(path, encoding="utf-8", newline="") as f:
+        reader = csv.reader(f)
+        next(reader, None)  # the header
+        start = reader.line_num + 1
+        i = 0
+        for r in reader:
+            if r:
+                if i == row:
+                    return start
+                i += 1
+            start = reader.line_num + 1
+    return start
+
+
 def _csv_line_error(path: str) -> str | None:
     """Where the CSV file goes wrong (a row with the wrong number of fields), found with
     the ``csv`` module when pyarrow's reader has refused it."""
+    with _csv_fields_unbounded():
+        return _csv_line_error_of(path)
+
+
+def _csv_line_error_of(path: str) -> str | None:
     import csv
 
     with open(path, "rb") as raw:
@@ -279,24 +314,51 @@ def _csv_line_error(path: str) -> str | None:
     return None
 
 
+#: The bytes pyarrow's CSV reader decodes at a time; a row longer than that (a goal of
+#: megabytes) is read again from the start with blocks 16 times larger, up to
+#: :data:`_CSV_BLOCK_MAX`.
+_CSV_BLOCK = 1 << 20
+_CSV_BLOCK_MAX = 1 << 30
+
+
 def _csv_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
+    import pyarrow as pa
+
+    block = _CSV_BLOCK
+    done = 0  # rows given already (skipped when read again with larger blocks)
+    while True:
+        skip = done
+        try:
+            for b in _csv_blocks(path, use_threads, block):
+                if skip >= b.num_rows:
+                    skip -= b.num_rows
+                    continue
+                b, skip = b.slice(skip), 0
+                done += b.num_rows
+                yield b
+            return
+        except pa.ArrowInvalid as e:
+            if "straddl" in str(e) and block < _CSV_BLOCK_MAX:
+                block *= 16
+                continue
+            raise ValueError(_csv_line_error(path) or f"{path}: {e}") from None
+
+
+def _csv_blocks(path: str, use_threads: bool, block: int) -> Iterator[pa.RecordBatch]:
     import pyarrow as pa
     import pyarrow.csv as pcsv  # type: ignore[import-untyped]
 
     text = {name: pa.string() for name in ("query_id", "kitchen_id", "goal", "method",
                                            "options")}  # fmt: skip
-    try:
-        reader = pcsv.open_csv(
-            path,
-            read_options=pcsv.ReadOptions(block_size=1 << 20, use_threads=use_threads),
-            # Quoted fields may hold line breaks (a goal written as indented JSON).
-            parse_options=pcsv.ParseOptions(newlines_in_values=True),
-            convert_options=pcsv.ConvertOptions(
-                column_types=text, strings_can_be_null=False, quoted_strings_can_be_null=False
-            ),
-        )
-    except pa.ArrowInvalid as e:
-        raise ValueError(_csv_line_error(path) or f"{path}: {e}") from None
+    reader = pcsv.open_csv(
+        path,
+        read_options=pcsv.ReadOptions(block_size=block, use_threads=use_threads),
+        # Quoted fields may hold line breaks (a goal written as indented JSON).
+        parse_options=pcsv.ParseOptions(newlines_in_values=True),
+        convert_options=pcsv.ConvertOptions(
+            column_types=text, strings_can_be_null=False, quoted_strings_can_be_null=False
+        ),
+    )
     with reader:
         _check_schema(path, reader.schema)
         while True:
@@ -304,20 +366,29 @@ def _csv_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
                 b = reader.read_next_batch()
             except StopIteration:
                 return
-            except pa.ArrowInvalid as e:
-                raise ValueError(_csv_line_error(path) or f"{path}: {e}") from None
             yield _select(b)
 
 
 def _json_value(path: str, line: int, obj: dict[str, Any], name: str) -> str | None:
     v = obj.get(name)
-    if v is None or isinstance(v, str):
+    if v is None:
         return v
-    if name == "query_id" and isinstance(v, int) and not isinstance(v, bool):
+    if isinstance(v, str):
+        text = v
+    elif name == "query_id" and isinstance(v, int) and not isinstance(v, bool):
         return str(v)
-    if name in ("goal", "options") and isinstance(v, dict):
-        return json.dumps(v, ensure_ascii=False)
-    raise ValueError(f"{path}:{line}: '{name}' must be a string, not {type(v).__name__}")
+    elif name in ("goal", "options") and isinstance(v, dict):
+        text = json.dumps(v, ensure_ascii=False)
+    else:
+        raise ValueError(f"{path}:{line}: '{name}' must be a string, not {type(v).__name__}")
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        # A lone surrogate (the escape ``\\ud800``): JSON can write it, no text holds it.
+        raise ValueError(
+            f"{path}:{line}: '{name}' holds a lone UTF-16 surrogate escape, not text"
+        ) from None
+    return text
 
 
 def _json_block_slow(path: str, lines: list[bytes], first_line: int) -> pa.RecordBatch:
@@ -376,8 +447,10 @@ def _json_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
                 t = pjson.read_json(io.BytesIO(block), parse_options=opts, read_options=reads)
                 # Missing keys, integer ids, goals as objects, blank lines, empty ids: line by
                 # line.
+                # (A blank line would let a line of two objects pass the count.)
                 if (
                     t.num_rows != len(lines)
+                    or any(not x.strip() for x in lines)
                     or any(t.column(c).null_count for c in _REQUIRED)
                     or pc.any(_missing_ids(t.column("query_id"))).as_py()
                 ):
@@ -412,12 +485,15 @@ def read_queries(
     return _json_batches(path, use_threads)
 
 
-def _line_mapper(kind: str) -> Callable[[int], int]:
-    # Row i (0-based) is on line i + 2 of a CSV file (header first); on line i + 1 of a JSON
-    # lines file without blank lines; Parquet has rows, not lines (reported as row i + 1).
+def _row_place(path: str, kind: str) -> Callable[[int], str]:
+    """Where row ``i`` (0-based) of a query file is, for messages: ``path:line`` for the
+    text files (for JSON lines, of a block without blank lines: others are read line by
+    line), ``path: row n`` for Parquet, which has rows, not lines."""
     if kind == "csv":
-        return lambda i: i + 2
-    return lambda i: i + 1
+        return lambda i: f"{path}:{_csv_row_line(path, i)}"
+    if kind == "jsonl":
+        return lambda i: f"{path}:{i + 1}"
+    return lambda i: f"{path}: row {i + 1}"
 
 
 def scan_queries(path: str, *, use_threads: bool = True) -> int:
@@ -435,7 +511,7 @@ def scan_queries(path: str, *, use_threads: bool = True) -> int:
                 b.validate(full=True)
             except pa.ArrowInvalid as e:
                 raise ValueError(f"{path}: rows {n + 1}-{n + b.num_rows}: {e}") from None
-        _null_ids(path, b, n, _line_mapper(kind))
+        _null_ids(b, n, _row_place(path, kind))
         n += b.num_rows
     return n
 
@@ -525,8 +601,14 @@ def _write_atomic(folder: str, name: str, write: Callable[[str], None], *, hash:
     sees the old file or the whole new one, never a part. With ``hash``, returns the SHA-256
     of the bytes written (read back from the temporary file before the rename: this write's
     bytes, whatever another writer of the same name does)."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=folder)
-    os.close(fd)
+    # Created as an ordinary file is (mode 0o666 less the umask), not private as mkstemp's.
+    while True:
+        tmp = os.path.join(folder, f".{name}.{secrets.token_hex(6)}.tmp")
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            break
+        except FileExistsError:
+            continue
     try:
         write(tmp)
         with open(tmp, "rb") as f:
@@ -597,9 +679,10 @@ def _clean(folder: str, everything: bool) -> None:
     """Removes the temporary files of an interrupted run (and, with ``everything``, the
     partitions and the manifest too); other files are left alone."""
     for name in os.listdir(folder):
-        if _is_ours(name) and (everything or name.endswith(".tmp")):
+        p = os.path.join(folder, name)
+        if _is_ours(name) and (everything or name.endswith(".tmp")) and not os.path.isdir(p):
             with contextlib.suppress(FileNotFoundError):
-                os.unlink(os.path.join(folder, name))
+                os.unlink(p)
 
 
 def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str, Any]:
@@ -631,6 +714,11 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
                 f"{out}: holds the results of a batch with other inputs (differ: "
                 f"{', '.join(diff) or 'format'}); use --overwrite to replace them"
             )
+        bad = _misplaced_entry(old, inputs)
+        if bad is not None:
+            raise FileExistsError(
+                f"{out}: its _manifest.json is not a batch's ({bad}); use --overwrite to replace it"
+            )
     elif any(_is_ours(n) and n.endswith(".parquet") for n in os.listdir(out)):
         raise FileExistsError(
             f"{out}: holds partitions but no _manifest.json; use --overwrite to replace them"
@@ -642,6 +730,27 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
         if os.path.isfile(p) and _sha256(p) == entry.get("sha256"):
             kept[key] = entry
     return kept
+
+
+def _misplaced_entry(m: dict[str, Any], inputs: dict[str, Any]) -> str | None:
+    """An entry of manifest ``m`` (of a run with these ``inputs``) that is not partition
+    ``k``'s (its key, file name and row count are all fixed by ``k``), described; ``None``
+    when every entry is in its place."""
+    rows, size = int(inputs["rows"]), int(inputs["chunk_size"])
+    n = (rows + size - 1) // size
+    for key, e in m["partitions"].items():
+        k = int(key.lstrip("z")) if _PART_KEY.fullmatch(key) else -1
+        if k < 0 or k >= n or part_key(k) != key:
+            return f"partition '{key}' is not one of its {n}"
+        if e["file"] != part_name(k):
+            return f"partition '{key}' names the file '{e['file']}'"
+        if e["rows"] != min(size, rows - k * size):
+            return f"partition '{key}' has {e['rows']} rows"
+    return None
+
+
+#: A partition's key (:func:`part_key`).
+_PART_KEY = re.compile(r"z*[0-9]{5,}")
 
 
 def _is_manifest(m: Any) -> TypeGuard[dict[str, Any]]:
@@ -870,6 +979,34 @@ def _plan_locally(
                 record(writing[0], writing[1].result())
 
 
+def _is_output_file(qpath: str, opath: str) -> bool:
+    """Whether the query file is (by its name, the file it links to, or another link to the
+    same file) one of the files a batch writes, and may remove, in ``opath``."""
+    for p in (os.path.abspath(qpath), os.path.realpath(qpath)):
+        if _is_ours(os.path.basename(p)) and os.path.realpath(
+            os.path.dirname(p)
+        ) == os.path.realpath(opath):
+            return True
+    if os.path.isdir(opath) and os.path.isfile(qpath):
+        for name in os.listdir(opath):
+            with contextlib.suppress(OSError):
+                if _is_ours(name) and os.path.samefile(qpath, os.path.join(opath, name)):
+                    return True
+    return False
+
+
+def _check_client(client: Any) -> None:
+    """A ``client`` is a ``distributed.Client`` (``TypeError`` otherwise)."""
+    try:
+        from distributed import Client
+    except ImportError:
+        ok = False  # no Client can be given without the package
+    else:
+        ok = isinstance(client, Client)
+    if not ok:
+        raise TypeError(f"client must be a distributed.Client, not {type(client).__name__}")
+
+
 def batch(
     queries: str | os.PathLike[str],
     *,
@@ -930,10 +1067,16 @@ def batch(
     opath = os.fspath(out)
     if isinstance(qpath, bytes) or isinstance(opath, bytes):
         raise TypeError("paths must be str")
-    if _is_ours(os.path.basename(qpath)) and os.path.realpath(
-        os.path.dirname(qpath) or "."
-    ) == os.path.realpath(opath):
+    if _is_output_file(qpath, opath):
         raise ValueError(f"{qpath}: the query file is one of the files a batch writes in {opath}")
+    if (
+        isinstance(kitchens, (str, os.PathLike))
+        and os.path.isdir(kitchens)
+        and os.path.realpath(kitchens) == os.path.realpath(opath)
+    ):
+        raise ValueError(f"{opath}: the output folder is the folder of kitchens")
+    if client is not None:
+        _check_client(client)
     f = _native_foon(foon)
     ks = _kitchen_set(kitchens)
     rates = _pkg._as_rates(motions)
@@ -954,135 +1097,140 @@ def batch(
     alone = engine == "local" and threads == 1
     ahead = 1 if threads == 1 else LOCAL_AHEAD
     early = engine == "local" and ahead > 1 and not (resume and _listed(opath, part_key(0)))
-    first = _Early.start(qpath, chunk_size, plan) if early else None
-    try:
-        total = scan_queries(qpath, use_threads=not alone)
-        if engine == "dask" and f.index_path is None:
-            raise ValueError(
-                "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
-            )
-        inputs: dict[str, Any] = {
-            "index": f.fingerprint,
-            "kitchens": ks.fingerprint,
-            "queries": file_fingerprint(qpath),
-            "settings": _settings_fingerprint(rates, tools, default_rate),
-            "chunk_size": chunk_size,
-            "rows": total,
-        }
-        kept = _prepare_output(opath, inputs, resume)
-    except BaseException:
-        if first is not None:
+    # The Dask client (and the local cluster it may start) is closed once the batch ends.
+    with contextlib.ExitStack() as stack:
+        first = _Early.start(qpath, chunk_size, plan) if early else None
+        try:
+            total = scan_queries(qpath, use_threads=not alone)
+            if engine == "dask" and f.index_path is None:
+                raise ValueError(
+                    "the dask engine needs a FOON opened from a .foonidx file (see 'foon index')"
+                )
+            inputs: dict[str, Any] = {
+                "index": f.fingerprint,
+                "kitchens": ks.fingerprint,
+                "queries": file_fingerprint(qpath),
+                "settings": _settings_fingerprint(rates, tools, default_rate),
+                "chunk_size": chunk_size,
+                "rows": total,
+            }
+            if engine == "dask":
+                # Connected before the output is touched: a scheduler that cannot be reached
+                # leaves no folder behind.
+                from foon import _dask
+
+                client = stack.enter_context(_dask.connected(client, scheduler))
+            kept = _prepare_output(opath, inputs, resume)
+        except BaseException:
+            if first is not None:
+                first.stop()
+            raise
+        if first is not None and part_key(0) in kept:
             first.stop()
-        raise
-    if first is not None and part_key(0) in kept:
-        first.stop()
-        first = None
-    n_parts = (total + chunk_size - 1) // chunk_size
-    manifest: dict[str, Any] = {
-        "format": _FORMAT,
-        "inputs": inputs,
-        "partitions": dict(sorted(kept.items())),
-    }
-    _write_json(opath, MANIFEST, manifest)
-
-    done = sum(int(e["rows"]) for e in kept.values())
-    bar = _Progress(total, done) if progress is True else None
-    report: Callable[[int, int], None] | None = progress if callable(progress) else bar
-    if bar is not None:
-        bar(done, total)
-
-    planned = [0, 0]
-    saved = [time.monotonic(), False]  # when the manifest was last written; entries since
-
-    def save(force: bool) -> None:
-        now = time.monotonic()
-        if saved[1] and (force or now - saved[0] >= MANIFEST_INTERVAL):
-            _write_json(opath, MANIFEST, manifest)
-            saved[0], saved[1] = now, False
-
-    def record(k: int, entry: dict[str, Any]) -> None:
-        """Partition ``k`` is written (``entry``, its manifest entry): counted once."""
-        nonlocal done
-        key = part_key(k)
-        if key in manifest["partitions"]:
-            return  # recorded already (a task run twice after a worker died)
-        manifest["partitions"][key] = entry
-        manifest["partitions"] = dict(sorted(manifest["partitions"].items()))
-        saved[1] = True
-        save(False)
-        done += int(entry["rows"])
-        planned[0] += 1
-        planned[1] += int(entry["rows"])
-        if report is not None:
-            report(done, total)
-
-    todo = (
-        (k, t)
-        for k, t in chunks(qpath, chunk_size, use_threads=not alone, rows=total)
-        if part_key(k) not in kept
-    )
-    t0 = time.perf_counter()
-    try:
-        if engine == "local":
-            _plan_locally(todo, plan, record, opath, ahead, first, overlap=not alone)
             first = None
-        else:
-            from foon import _dask
+        n_parts = (total + chunk_size - 1) // chunk_size
+        manifest: dict[str, Any] = {
+            "format": _FORMAT,
+            "inputs": inputs,
+            "partitions": dict(sorted(kept.items())),
+        }
+        _write_json(opath, MANIFEST, manifest)
 
-            _dask.run(
-                todo,
-                record,
-                out=opath,
-                foon=f,
-                kitchens=ks,
-                client=client,
-                scheduler=scheduler,
-                threads=threads,
-                motions=rates,
-                utensils=tools,
-                default_rate=default_rate,
-                token=hashlib.blake2b(
-                    json.dumps(inputs, sort_keys=True).encode(), digest_size=8
-                ).hexdigest(),
-            )
-    except BaseException:
-        if first is not None:
-            first.stop()
-        # An interrupted or failed run: the manifest lists every partition recorded so far.
-        with contextlib.suppress(Exception):
-            save(True)
-        raise
-    save(True)
-    # Temporary files of writers that died (a killed worker) are removed; the partitions
-    # are all whole and recorded.
-    _clean(opath, everything=False)
-    seconds = time.perf_counter() - t0
-    if bar is not None:
-        bar(done, total, True)
-    if os.stat(qpath).st_size != inputs["queries"]["size"]:
-        # Its rows were planned as they were when it was checked; its fingerprint is of that
-        # content, which a rerun will not find.
-        raise ValueError(f"{qpath}: the query file changed while the batch ran")
-    if len(manifest["partitions"]) != n_parts:
-        raise RuntimeError(
-            f"{opath}: {n_parts - len(manifest['partitions'])} partitions were not written"
+        done = sum(int(e["rows"]) for e in kept.values())
+        bar = _Progress(total, done) if progress is True else None
+        report: Callable[[int, int], None] | None = progress if callable(progress) else bar
+        if bar is not None:
+            bar(done, total)
+
+        planned = [0, 0]
+        saved = [time.monotonic(), False]  # when the manifest was last written; entries since
+
+        def save(force: bool) -> None:
+            now = time.monotonic()
+            if saved[1] and (force or now - saved[0] >= MANIFEST_INTERVAL):
+                _write_json(opath, MANIFEST, manifest)
+                saved[0], saved[1] = now, False
+
+        def record(k: int, entry: dict[str, Any]) -> None:
+            """Partition ``k`` is written (``entry``, its manifest entry): counted once."""
+            nonlocal done
+            key = part_key(k)
+            if key in manifest["partitions"]:
+                return  # recorded already (a task run twice after a worker died)
+            manifest["partitions"][key] = entry
+            manifest["partitions"] = dict(sorted(manifest["partitions"].items()))
+            saved[1] = True
+            save(False)
+            done += int(entry["rows"])
+            planned[0] += 1
+            planned[1] += int(entry["rows"])
+            if report is not None:
+                report(done, total)
+
+        todo = (
+            (k, t)
+            for k, t in chunks(qpath, chunk_size, use_threads=not alone, rows=total)
+            if part_key(k) not in kept
         )
-    solved = 0
-    failures: dict[str, int] = {}
-    for e in manifest["partitions"].values():
-        solved += int(e["solved"])
-        for code, c in e["failures"].items():
-            failures[code] = failures.get(code, 0) + int(c)
-    return BatchSummary(
-        queries=total,
-        solved=solved,
-        failures=failures,
-        partitions=n_parts,
-        planned_partitions=planned[0],
-        planned_queries=planned[1],
-        seconds=seconds,
-        engine=engine,
-        out=opath,
-        chunk_size=chunk_size,
-        kept_partitions=len(kept),
-    )
+        t0 = time.perf_counter()
+        try:
+            if engine == "local":
+                _plan_locally(todo, plan, record, opath, ahead, first, overlap=not alone)
+                first = None
+            else:
+                _dask.run(
+                    todo,
+                    record,
+                    out=opath,
+                    foon=f,
+                    kitchens=ks,
+                    client=client,
+                    threads=threads,
+                    motions=rates,
+                    utensils=tools,
+                    default_rate=default_rate,
+                    token=hashlib.blake2b(
+                        json.dumps(inputs, sort_keys=True).encode(), digest_size=8
+                    ).hexdigest(),
+                )
+        except BaseException:
+            if first is not None:
+                first.stop()
+            # An interrupted or failed run: the manifest lists every partition recorded so far.
+            with contextlib.suppress(Exception):
+                save(True)
+            raise
+        save(True)
+        # Temporary files of writers that died (a killed worker) are removed; the partitions
+        # are all whole and recorded.
+        _clean(opath, everything=False)
+        seconds = time.perf_counter() - t0
+        if bar is not None:
+            bar(done, total, True)
+        if os.stat(qpath).st_size != inputs["queries"]["size"]:
+            # Its rows were planned as they were when it was checked; its fingerprint is of that
+            # content, which a rerun will not find.
+            raise ValueError(f"{qpath}: the query file changed while the batch ran")
+        if len(manifest["partitions"]) != n_parts:
+            raise RuntimeError(
+                f"{opath}: {n_parts - len(manifest['partitions'])} partitions were not written"
+            )
+        solved = 0
+        failures: dict[str, int] = {}
+        for e in manifest["partitions"].values():
+            solved += int(e["solved"])
+            for code, c in e["failures"].items():
+                failures[code] = failures.get(code, 0) + int(c)
+        return BatchSummary(
+            queries=total,
+            solved=solved,
+            failures=failures,
+            partitions=n_parts,
+            planned_partitions=planned[0],
+            planned_queries=planned[1],
+            seconds=seconds,
+            engine=engine,
+            out=opath,
+            chunk_size=chunk_size,
+            kept_partitions=len(kept),
+        )

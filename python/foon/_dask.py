@@ -18,7 +18,7 @@ from __future__ import annotations
 import contextlib
 import os
 import secrets
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from distributed import WorkerPlugin
@@ -201,55 +201,63 @@ def run(
     foon: Foon,
     kitchens: KitchenSet,
     client: Any,
-    scheduler: str | None,
     threads: int | None,
     motions: MotionRates | None,
     utensils: list[str],
     default_rate: float | None,
     token: str,
 ) -> None:
-    """Plans ``chunks`` on the cluster (``client``, else a client of ``scheduler``, else a
-    local cluster of one single-threaded worker process per core) into partitions of the
-    folder ``out`` and calls ``record(k, entry)`` once per chunk with its manifest entry,
-    as the tasks complete."""
-    from distributed import Client
-
+    """Plans ``chunks`` on the cluster of ``client`` (:func:`connected`) into partitions of
+    the folder ``out`` and calls ``record(k, entry)`` once per chunk with its manifest
+    entry, as the tasks complete."""
     path = foon.index_path
     if path is None:
         raise ValueError("the dask engine needs a FOON opened from a .foonidx file")
+    name = f"foon-batch-{token}"
+    probe = _make_probe(out, token)
+    try:
+        plugin = FoonPlugin(
+            os.path.abspath(path),
+            foon.fingerprint,
+            kitchens.to_bytes(),
+            None if motions is None else list(motions.items()),
+            list(utensils),
+            default_rate,
+            os.path.abspath(out),
+            probe,
+        )
+        client.register_plugin(plugin, name=name)
+        try:
+            _drive(client, chunks, record, out, name, threads or 1)
+        finally:
+            # A closed or broken client has nothing to undo.
+            with contextlib.suppress(Exception):
+                client.unregister_worker_plugin(name)
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(os.path.join(out, probe))
+
+
+@contextlib.contextmanager
+def connected(client: Any, scheduler: str | None) -> Iterator[Any]:
+    """The client a batch runs on: ``client``, else a client of ``scheduler``, else one of a
+    local cluster of one single-threaded worker process per core; a client or cluster made
+    here is closed on exit."""
+    if client is not None:
+        yield client
+        return
+    from distributed import Client
+
     own: list[Any] = []
     try:
-        if client is None:
-            if scheduler is not None:
-                client = Client(scheduler)  # type: ignore[no-untyped-call]
-            else:
-                cluster = local_cluster()
-                own.append(cluster)
-                client = Client(cluster)  # type: ignore[no-untyped-call]
-            own.insert(0, client)
-        name = f"foon-batch-{token}"
-        probe = _make_probe(out, token)
-        try:
-            plugin = FoonPlugin(
-                os.path.abspath(path),
-                foon.fingerprint,
-                kitchens.to_bytes(),
-                None if motions is None else list(motions.items()),
-                list(utensils),
-                default_rate,
-                os.path.abspath(out),
-                probe,
-            )
-            client.register_plugin(plugin, name=name)
-            try:
-                _drive(client, chunks, record, out, name, threads or 1)
-            finally:
-                # A closed or broken client has nothing to undo.
-                with contextlib.suppress(Exception):
-                    client.unregister_worker_plugin(name)
-        finally:
-            with contextlib.suppress(OSError):
-                os.unlink(os.path.join(out, probe))
+        if scheduler is not None:
+            client = Client(scheduler)  # type: ignore[no-untyped-call]
+        else:
+            cluster = local_cluster()
+            own.append(cluster)
+            client = Client(cluster)  # type: ignore[no-untyped-call]
+        own.insert(0, client)
+        yield client
     finally:
         for c in own:
             c.close()
