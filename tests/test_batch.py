@@ -661,6 +661,38 @@ def test_cli_summary_and_json(data: Data, whole: Any, tmp_path: Path,
     assert s["failures"]["unknown-method"] == 1 and s["engine"] == "local"
 
 
+def test_sigterm_stops_the_cli_as_ctrl_c_does(data: Data, tmp_path: Path) -> None:
+    """``kill`` (SIGTERM) of ``foon batch``: exit status 143, one line, no traceback, only
+    whole partitions, each listed by the manifest; the rerun resumes."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    q = data.path("parquet")
+    out = tmp_path / "out"
+    argv = [sys.executable, "-m", "foon", "batch", str(q), "--foon", str(data.index),
+            "--kitchens", str(data.kitchens_path), "-o", str(out), "--motions",
+            str(data.motions_path), "--chunk-size", "1", "--threads", "1"]  # fmt: skip
+    p = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not (out / "part-00002.parquet").exists() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    p.send_signal(signal.SIGTERM)
+    _, stderr = p.communicate(timeout=60)
+    assert p.returncode == 143, (p.returncode, stderr)
+    assert stderr.splitlines() == ["foon: terminated"], stderr
+    names = set(os.listdir(out))
+    listed = {e["file"] for e in manifest(out)["partitions"].values()}
+    assert names == {_batch.MANIFEST, *listed}
+    assert 3 <= len(listed) < len(data.rows)
+    r = subprocess.run(argv, capture_output=True, text=True, timeout=600, check=True)
+    assert "planned" in r.stdout
+    assert len(manifest(out)["partitions"]) == len(data.rows)
+    assert read_parts(out).equals(_arrow.plan_table(data.foon, data.kitchens, data.table,
+                                                    motions=data.motions))  # fmt: skip
+
+
 def test_cli_errors_are_one_line(data: Data, tmp_path: Path,
                                  capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
     for i, (path, message) in enumerate(bad_files(tmp_path, data)):

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import sys
 
-from foon.cli import CliError, one_line
+from foon.cli import CliError, catch_sigterm, one_line
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -118,6 +118,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
         raise CliError("--scheduler is for --engine dask")
     from foon._batch import batch
 
+    catch_sigterm()
     try:
         summary = batch(
             args.queries,

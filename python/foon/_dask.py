@@ -58,13 +58,32 @@ def local_cluster(n_workers: int | None = None) -> Any:
     import dask
     from distributed import LocalCluster
 
-    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+    with dask.config.set(LOCAL_CLUSTER_CONFIG), _workers_ignore_ctrl_c():
         return LocalCluster(  # type: ignore[no-untyped-call]
             n_workers=n_workers or os.cpu_count() or 1,
             threads_per_worker=1,
             processes=True,
             dashboard_address=None,
         )
+
+
+@contextlib.contextmanager
+def _workers_ignore_ctrl_c() -> Iterator[None]:
+    """The worker processes started while in ignore Ctrl-C (they inherit the ignored
+    signal): the terminal sends it to the whole process group, and the client alone
+    answers it (it closes the cluster, whose workers stop), without a traceback from each
+    worker. Only in the main thread, where signal handlers are set."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 def _to_ipc(table: pa.Table) -> bytes:

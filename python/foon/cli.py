@@ -3,8 +3,9 @@
 ``merge``, ``synth``, ``batch``.
 
 Exit codes: 0 ok, 1 a domain error or a goal that could not be planned (one clear line on
-stderr, no traceback), 2 a usage error, 130 interrupted. A closed output pipe
-(``foon ... | head``) ends the command quietly with exit code 1, as Python programs do.
+stderr, no traceback), 2 a usage error, 130 interrupted (143 stopped by SIGTERM, which
+``foon batch`` meets as Ctrl-C). A closed output pipe (``foon ... | head``) ends the command
+quietly with exit code 1, as Python programs do.
 
 This module only builds the argument parser and maps errors to exit codes; each command is
 in :mod:`foon._cli_commands`, imported when a command runs. ``foon --version`` imports
@@ -557,6 +558,28 @@ def _guard_closed_stdout() -> None:
         pass
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, met as Ctrl-C is (by the commands that ask for it, :func:`catch_sigterm`):
+    work stops where it is, and what it leaves is whole."""
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise Terminated
+
+
+def catch_sigterm() -> None:
+    """From now on SIGTERM (``kill``, a job scheduler's time limit) stops the command as
+    Ctrl-C does, with exit status 143 (``foon batch``: its manifest then lists every
+    partition written). Not when it is ignored (``nohup``), nor off the main thread."""
+    import signal
+
+    try:
+        if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
+            signal.signal(signal.SIGTERM, _on_sigterm)
+    except ValueError:  # not the main thread
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     _guard_closed_stdout()
     try:
@@ -564,6 +587,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         _quiet_closed_pipe()
         return 1
+    except Terminated:
+        print("foon: terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print("foon: interrupted", file=sys.stderr)
         return 130
