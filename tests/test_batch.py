@@ -341,6 +341,8 @@ def test_arguments_are_checked(data: Data, tmp_path: Path) -> None:
         run(data, tmp_path / "o", resume="no")
     with pytest.raises(TypeError, match="progress"):
         run(data, tmp_path / "o", progress="yes")
+    with pytest.raises(ValueError, match="out must name a folder, not ''"):
+        foon.batch(data.path("csv"), foon=data.index, kitchens=data.kitchens, out="")
     assert not (tmp_path / "o").exists()
 
 
@@ -588,8 +590,13 @@ def test_an_empty_file_is_an_empty_batch(data: Data, tmp_path: Path) -> None:
     p = tmp_path / "empty.csv"
     p.write_text("query_id,kitchen_id,goal,method\n")
     s = foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o")
-    assert (s.queries, s.partitions, s.solved, s.failures) == (0, 0, 0, {})
-    assert manifest(tmp_path / "o")["partitions"] == {}
+    assert (s.queries, s.partitions, s.solved, s.failures) == (0, 1, 0, {})
+    assert list(manifest(tmp_path / "o")["partitions"]) == ["00000"]
+    # One empty partition: the folder reads as a table of the result schema, with no rows.
+    t = pq.read_table(tmp_path / "o")
+    assert t.num_rows == 0 and t.schema == _arrow.RESULT_SCHEMA
+    assert foon.batch(p, foon=data.index, kitchens=data.kitchens, out=tmp_path / "o"
+                      ).kept_partitions == 1  # fmt: skip
 
 
 def test_an_interrupted_run_leaves_whole_partitions(

@@ -520,7 +520,8 @@ def chunks(
     path: str, size: int, *, use_threads: bool = True, rows: int | None = None
 ) -> Iterator[tuple[int, pa.Table]]:
     """``(k, table)``: the query rows of partition ``k``, ``size`` rows each but the last
-    (of the first ``rows`` rows of the file, when given)."""
+    (of the first ``rows`` rows of the file, when given); one empty partition when there
+    are no rows."""
     import pyarrow as pa
 
     pending: list[pa.RecordBatch] = []
@@ -541,6 +542,15 @@ def chunks(
                 pending, have, k = [], 0, k + 1
     if have:
         yield k, _normalise(pa.Table.from_batches(pending))
+    elif k == 0:
+        # No rows: one empty partition, so that the output reads as a table of the result
+        # schema (a folder of no partitions reads as a table of no columns).
+        yield 0, _empty_queries()
+
+
+def partition_count(rows: int, size: int) -> int:
+    """The number of partitions of ``rows`` queries in chunks of ``size``: at least one."""
+    return max(1, (rows + size - 1) // size)
 
 
 def _normalise(t: pa.Table) -> pa.Table:
@@ -737,7 +747,7 @@ def _misplaced_entry(m: dict[str, Any], inputs: dict[str, Any]) -> str | None:
     ``k``'s (its key, file name and row count are all fixed by ``k``), described; ``None``
     when every entry is in its place."""
     rows, size = int(inputs["rows"]), int(inputs["chunk_size"])
-    n = (rows + size - 1) // size
+    n = partition_count(rows, size)
     for key, e in m["partitions"].items():
         k = int(key.lstrip("z")) if _PART_KEY.fullmatch(key) else -1
         if k < 0 or k >= n or part_key(k) != key:
@@ -1067,6 +1077,8 @@ def batch(
     opath = os.fspath(out)
     if isinstance(qpath, bytes) or isinstance(opath, bytes):
         raise TypeError("paths must be str")
+    if not opath:
+        raise ValueError("out must name a folder, not ''")
     if _is_output_file(qpath, opath):
         raise ValueError(f"{qpath}: the query file is one of the files a batch writes in {opath}")
     if (
@@ -1128,7 +1140,7 @@ def batch(
         if first is not None and part_key(0) in kept:
             first.stop()
             first = None
-        n_parts = (total + chunk_size - 1) // chunk_size
+        n_parts = partition_count(total, chunk_size)
         manifest: dict[str, Any] = {
             "format": _FORMAT,
             "inputs": inputs,

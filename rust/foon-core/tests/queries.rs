@@ -99,6 +99,44 @@ fn kitchen_sets_are_read_from_folders_and_relative_bases() {
         s.get("two").unwrap().unwrap().fingerprint(),
         kitchen(r#"[{"label": "tea", "states": ["hot"]}]"#).fingerprint()
     );
+    // Sub-folders (and links to them) are skipped; links to files are read.
+    std::fs::create_dir_all(dir.join("ks/sub")).unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(dir.join("ks/sub"), dir.join("ks/folder-link")).unwrap();
+        std::os::unix::fs::symlink(dir.join("ks/one.json"), dir.join("ks/three.json")).unwrap();
+    }
+    let s = KitchenSet::load(&dir.join("ks")).unwrap();
+    let want: &[&str] = if cfg!(unix) {
+        &["one", "three", "two"]
+    } else {
+        &["one", "two"]
+    };
+    assert_eq!(s.ids(), want);
+    // A broken link, or a pipe, is an error naming it (not a kitchen left out, nor a read
+    // that waits for a writer).
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(dir.join("gone.json"), dir.join("ks/four.json")).unwrap();
+        let e = KitchenSet::load(&dir.join("ks")).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&dir.join("ks/four.json").display().to_string()),
+            "{e}"
+        );
+        std::fs::remove_file(dir.join("ks/four.json")).unwrap();
+        if std::process::Command::new("mkfifo")
+            .arg(dir.join("ks/five.json"))
+            .status()
+            .is_ok_and(|s| s.success())
+        {
+            let e = KitchenSet::load(&dir.join("ks")).unwrap_err().to_string();
+            assert!(
+                e.contains("five.json: not a kitchen file (not a regular file)"),
+                "{e}"
+            );
+            std::fs::remove_file(dir.join("ks/five.json")).unwrap();
+        }
+    }
     std::fs::write(dir.join("ks/one.txt"), "O\tice\n").unwrap();
     let e = KitchenSet::load(&dir.join("ks")).unwrap_err().to_string();
     assert!(e.contains("kitchen id 'one' is given twice"), "{e}");

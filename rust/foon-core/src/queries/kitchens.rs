@@ -197,16 +197,32 @@ impl KitchenSet {
 
     /// Reads every kitchen file of a folder (id: the file name without its extension), in
     /// file-name order. Hidden files and sub-folders are skipped; two files with the same
-    /// id are an error.
+    /// id are an error, and so is any other entry that is not a file to read (a broken
+    /// link, a pipe: a kitchen missing from the set would otherwise show only as queries
+    /// of an unknown kitchen, and a pipe could block the read).
     pub fn load_folder(dir: &Path) -> Result<Self> {
         let read = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
         let mut files: Vec<PathBuf> = Vec::new();
         for entry in read {
             let entry = entry.map_err(|e| Error::io(dir, e))?;
             let p = entry.path();
-            let hidden = entry.file_name().to_string_lossy().starts_with('.');
-            if !hidden && p.is_file() {
-                files.push(p);
+            if entry.file_name().to_string_lossy().starts_with('.') {
+                continue;
+            }
+            // Links are followed: a link to a file is that file, to a folder a sub-folder.
+            match std::fs::metadata(&p) {
+                Ok(m) if m.is_dir() => {}
+                Ok(m) if m.is_file() => files.push(p),
+                Ok(_) => {
+                    return Err(Error::io(
+                        &p,
+                        std::io::Error::new(
+                            std::io::ErrorKind::InvalidInput,
+                            "not a kitchen file (not a regular file)",
+                        ),
+                    ));
+                }
+                Err(e) => return Err(Error::io(&p, e)),
             }
         }
         files.sort();
