@@ -263,7 +263,9 @@ def _csv_row_line(path: str, row: int) -> int:
     rows (as for pyarrow's reader) and a quoted field may span lines."""
     import csv
 
-    with _csv_fields_unbounded(), open(path, encoding="utf-8", newline="") as f:
+    # (Bytes that are not UTF-8 further on, which the check reports, do not stop the count.)
+    with _csv_fields_unbounded(), open(path, encoding="utf-8", errors="replace",
+                                       newline="") as f:  # fmt: skip
         reader = csv.reader(f)
         next(reader, None)  # the header
         start = reader.line_num + 1
@@ -316,9 +318,10 @@ def _csv_line_error_of(path: str) -> str | None:
 
 #: The bytes pyarrow's CSV reader decodes at a time; a row longer than that (a goal of
 #: megabytes) is read again from the start with blocks 16 times larger, up to
-#: :data:`_CSV_BLOCK_MAX`.
+#: :data:`_CSV_BLOCK_MAX` (a row longer than that, or a quoted field never closed, is an
+#: error).
 _CSV_BLOCK = 1 << 20
-_CSV_BLOCK_MAX = 1 << 30
+_CSV_BLOCK_MAX = 256 << 20
 
 
 def _csv_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
@@ -339,7 +342,7 @@ def _csv_batches(path: str, use_threads: bool) -> Iterator[pa.RecordBatch]:
             return
         except pa.ArrowInvalid as e:
             if "straddl" in str(e) and block < _CSV_BLOCK_MAX:
-                block *= 16
+                block = min(16 * block, _CSV_BLOCK_MAX)
                 continue
             raise ValueError(_csv_line_error(path) or f"{path}: {e}") from None
 
@@ -611,23 +614,25 @@ def _write_atomic(folder: str, name: str, write: Callable[[str], None], *, hash:
     sees the old file or the whole new one, never a part. With ``hash``, returns the SHA-256
     of the bytes written (read back from the temporary file before the rename: this write's
     bytes, whatever another writer of the same name does)."""
-    # Created as an ordinary file is (mode 0o666 less the umask), not private as mkstemp's.
-    while True:
-        tmp = os.path.join(folder, f".{name}.{secrets.token_hex(6)}.tmp")
-        try:
-            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
-            break
-        except FileExistsError:
-            continue
+    tmp = None
     try:
+        # Created as an ordinary file is (mode 0o666 less the umask), not private as
+        # mkstemp's.
+        while tmp is None:
+            tmp = os.path.join(folder, f".{name}.{secrets.token_hex(6)}.tmp")
+            try:
+                os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            except FileExistsError:
+                tmp = None
         write(tmp)
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
         digest = _sha256(tmp) if hash else None
         os.replace(tmp, os.path.join(folder, name))
     except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         raise
     return digest
 
@@ -737,15 +742,21 @@ def _prepare_output(out: str, inputs: dict[str, Any], resume: bool) -> dict[str,
     kept: dict[str, Any] = {}
     for key, entry in (old or {}).get("partitions", {}).items():
         p = os.path.join(out, entry.get("file", ""))
-        if os.path.isfile(p) and _sha256(p) == entry.get("sha256"):
+        # A partition of fewer rows than its chunk (written while the query file shrank,
+        # a run that then failed) is planned again.
+        if (
+            entry["rows"] == _chunk_rows(inputs, key)
+            and os.path.isfile(p)
+            and _sha256(p) == entry.get("sha256")
+        ):
             kept[key] = entry
     return kept
 
 
 def _misplaced_entry(m: dict[str, Any], inputs: dict[str, Any]) -> str | None:
     """An entry of manifest ``m`` (of a run with these ``inputs``) that is not partition
-    ``k``'s (its key, file name and row count are all fixed by ``k``), described; ``None``
-    when every entry is in its place."""
+    ``k``'s (its key and file name are fixed by ``k``), described; ``None`` when every
+    entry is in its place."""
     rows, size = int(inputs["rows"]), int(inputs["chunk_size"])
     n = partition_count(rows, size)
     for key, e in m["partitions"].items():
@@ -754,13 +765,17 @@ def _misplaced_entry(m: dict[str, Any], inputs: dict[str, Any]) -> str | None:
             return f"partition '{key}' is not one of its {n}"
         if e["file"] != part_name(k):
             return f"partition '{key}' names the file '{e['file']}'"
-        if e["rows"] != min(size, rows - k * size):
-            return f"partition '{key}' has {e['rows']} rows"
     return None
 
 
+def _chunk_rows(inputs: dict[str, Any], key: str) -> int:
+    """The rows partition ``key`` holds when whole, for a run with these ``inputs``."""
+    rows, size = int(inputs["rows"]), int(inputs["chunk_size"])
+    return min(size, rows - int(key.lstrip("z")) * size)
+
+
 #: A partition's key (:func:`part_key`).
-_PART_KEY = re.compile(r"z*[0-9]{5,}")
+_PART_KEY = re.compile(r"z{0,15}[0-9]{5,20}")
 
 
 def _is_manifest(m: Any) -> TypeGuard[dict[str, Any]]:
@@ -885,8 +900,8 @@ class _Early:
     def start(
         cls, path: str, size: int, plan: Callable[[pa.Table, threading.Event], pa.Table]
     ) -> _Early | None:
-        """None when the file has no rows or its first chunk cannot be read (the check says
-        why)."""
+        """None when the first chunk cannot be read (the check says why); a file without
+        rows has one empty chunk."""
         import threading
         from concurrent.futures import ThreadPoolExecutor
 
@@ -894,7 +909,7 @@ class _Early:
             first = next(chunks(path, size), None)
         except Exception:  # noqa: BLE001 - reported by the file's check
             return None
-        if first is None:
+        if first is None:  # (chunks gives at least one: kept for safety)
             return None
         cancel = threading.Event()
         ex = ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-plan")

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import sys
 
-from foon.cli import CliError, catch_sigterm, one_line
+from foon.cli import CliError, SigtermStops, one_line
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -118,23 +118,23 @@ def cmd_batch(args: argparse.Namespace) -> int:
         raise CliError("--scheduler is for --engine dask")
     from foon._batch import batch
 
-    catch_sigterm()
     try:
-        summary = batch(
-            args.queries,
-            foon=args.foon,
-            kitchens=args.kitchens,
-            out=args.out,
-            engine=args.engine,
-            scheduler=args.scheduler,
-            chunk_size=args.chunk_size,
-            threads=args.threads,
-            resume=not args.overwrite,
-            progress=wanted(args.quiet),
-            motions=args.motions,
-            utensils=args.utensils,
-            default_rate=args.default_rate,
-        )
+        with SigtermStops():
+            summary = batch(
+                args.queries,
+                foon=args.foon,
+                kitchens=args.kitchens,
+                out=args.out,
+                engine=args.engine,
+                scheduler=args.scheduler,
+                chunk_size=args.chunk_size,
+                threads=args.threads,
+                resume=not args.overwrite,
+                progress=wanted(args.quiet),
+                motions=args.motions,
+                utensils=args.utensils,
+                default_rate=args.default_rate,
+            )
     except (ValueError, RuntimeError, TypeError) as e:
         raise CliError(one_line(str(e))) from None
     if args.json:

@@ -72,14 +72,16 @@ def _workers_ignore_ctrl_c() -> Iterator[None]:
     """The worker processes started while in ignore Ctrl-C (they inherit the ignored
     signal): the terminal sends it to the whole process group, and the client alone
     answers it (it closes the cluster, whose workers stop), without a traceback from each
-    worker. Only in the main thread, where signal handlers are set."""
+    worker. A Ctrl-C while the cluster starts (a few seconds) is not seen. Only in the main
+    thread, where signal handlers are set, and when the handler there can be put back."""
     import signal
     import threading
 
-    if threading.current_thread() is not threading.main_thread():
+    old = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or old is None:
         yield
         return
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         yield
     finally:

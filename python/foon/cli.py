@@ -559,7 +559,7 @@ def _guard_closed_stdout() -> None:
 
 
 class Terminated(KeyboardInterrupt):
-    """SIGTERM, met as Ctrl-C is (by the commands that ask for it, :func:`catch_sigterm`):
+    """SIGTERM, met as Ctrl-C is (by the commands that ask for it, :class:`SigtermStops`):
     work stops where it is, and what it leaves is whole."""
 
 
@@ -567,17 +567,29 @@ def _on_sigterm(signum: int, frame: object) -> None:
     raise Terminated
 
 
-def catch_sigterm() -> None:
-    """From now on SIGTERM (``kill``, a job scheduler's time limit) stops the command as
-    Ctrl-C does, with exit status 143 (``foon batch``: its manifest then lists every
-    partition written). Not when it is ignored (``nohup``), nor off the main thread."""
-    import signal
+class SigtermStops:
+    """While in (``with SigtermStops(): ...``), SIGTERM (``kill``, a job scheduler's time
+    limit) stops the command as Ctrl-C does, with exit status 143 (``foon batch``: its
+    manifest then lists every partition written); the default is put back on the way out.
+    Not when SIGTERM is ignored or handled already (a parent's choice), nor off the main
+    thread."""
 
-    try:
-        if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
-            signal.signal(signal.SIGTERM, _on_sigterm)
-    except ValueError:  # not the main thread
-        pass
+    def __enter__(self) -> None:
+        import signal
+
+        self.caught = False
+        try:
+            if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
+                signal.signal(signal.SIGTERM, _on_sigterm)
+                self.caught = True
+        except ValueError:  # not the main thread
+            pass
+
+    def __exit__(self, *exc: object) -> None:
+        if self.caught:
+            import signal
+
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

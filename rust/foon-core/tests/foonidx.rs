@@ -296,6 +296,15 @@ fn a_file_named_as_an_index_is_one_or_an_error() {
             .fu_count(),
         2
     );
+    // The same rule in every command: `check` finds the fault, `merge` refuses the file.
+    let findings =
+        foon_core::lint::lint_file(&empty, &foon_core::lint::LintOptions::default()).unwrap();
+    assert!(
+        findings.iter().any(|f| f.message.contains("truncated")),
+        "{findings:?}"
+    );
+    let e = foon_core::merge::load_merged(&empty, ParseOptions::default()).unwrap_err();
+    assert!(matches!(e, Error::BadIndex { .. }), "{e}");
     let _ = std::fs::remove_dir_all(&d);
 }
 

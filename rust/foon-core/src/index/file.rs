@@ -423,14 +423,17 @@ pub fn is_index_name(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("foonidx"))
 }
 
-/// Whether the file at `path` starts with the index magic (false when it cannot be read).
+/// Whether the file at `path` is to be opened as an index (the rule of every command): it
+/// is named as one ([`is_index_name`]) or starts with the index magic (false when it cannot
+/// be read).
 pub fn is_index_file(path: &Path) -> bool {
     use std::io::Read;
     let mut head = [0u8; 8];
-    std::fs::File::open(path)
-        .and_then(|mut f| f.read_exact(&mut head))
-        .is_ok()
-        && head == MAGIC
+    is_index_name(path)
+        || (std::fs::File::open(path)
+            .and_then(|mut f| f.read_exact(&mut head))
+            .is_ok()
+            && head == MAGIC)
 }
 
 fn open_backing(backing: &Arc<Backing>, path: Option<&Path>, name: &Path) -> Result<Foon> {

@@ -365,7 +365,7 @@ pub fn load_foon_with(
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     let named = crate::index::file::is_index_name(path);
     if meta.is_file() {
-        if named || crate::index::file::is_index_file(path) {
+        if crate::index::file::is_index_file(path) {
             return Foon::open_index(path);
         }
         let mut b = Builder::for_bytes(usize::try_from(meta.len()).unwrap_or(usize::MAX));
