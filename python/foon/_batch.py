@@ -757,11 +757,10 @@ def _misplaced_entry(m: dict[str, Any], inputs: dict[str, Any]) -> str | None:
     """An entry of manifest ``m`` (of a run with these ``inputs``) that is not partition
     ``k``'s (its key and file name are fixed by ``k``), described; ``None`` when every
     entry is in its place."""
-    rows, size = int(inputs["rows"]), int(inputs["chunk_size"])
-    n = partition_count(rows, size)
+    n = partition_count(int(inputs["rows"]), int(inputs["chunk_size"]))
     for key, e in m["partitions"].items():
-        k = int(key.lstrip("z")) if _PART_KEY.fullmatch(key) else -1
-        if k < 0 or k >= n or part_key(k) != key:
+        k = _part_number(key)
+        if k < 0 or k >= n:
             return f"partition '{key}' is not one of its {n}"
         if e["file"] != part_name(k):
             return f"partition '{key}' names the file '{e['file']}'"
@@ -769,13 +768,23 @@ def _misplaced_entry(m: dict[str, Any], inputs: dict[str, Any]) -> str | None:
 
 
 def _chunk_rows(inputs: dict[str, Any], key: str) -> int:
-    """The rows partition ``key`` holds when whole, for a run with these ``inputs``."""
+    """The rows partition ``key`` (a key in its place) holds when whole, for a run with
+    these ``inputs``."""
     rows, size = int(inputs["rows"]), int(inputs["chunk_size"])
-    return min(size, rows - int(key.lstrip("z")) * size)
+    return min(size, rows - _part_number(key) * size)
 
 
-#: A partition's key (:func:`part_key`).
+#: A partition's key (:func:`part_key`), of a bounded length.
 _PART_KEY = re.compile(r"z{0,15}[0-9]{5,20}")
+
+
+def _part_number(key: str) -> int:
+    """The partition number ``key`` is the key of (:func:`part_key`'s inverse), -1 for a
+    string that is no partition's key."""
+    if not _PART_KEY.fullmatch(key):
+        return -1
+    k = int(key.lstrip("z"))
+    return k if part_key(k) == key else -1
 
 
 def _is_manifest(m: Any) -> TypeGuard[dict[str, Any]]:
@@ -900,16 +909,14 @@ class _Early:
     def start(
         cls, path: str, size: int, plan: Callable[[pa.Table, threading.Event], pa.Table]
     ) -> _Early | None:
-        """None when the first chunk cannot be read (the check says why); a file without
-        rows has one empty chunk."""
+        """None when the first chunk cannot be read (the check says why; a file without
+        rows has one, empty)."""
         import threading
         from concurrent.futures import ThreadPoolExecutor
 
         try:
-            first = next(chunks(path, size), None)
+            first = next(chunks(path, size))
         except Exception:  # noqa: BLE001 - reported by the file's check
-            return None
-        if first is None:  # (chunks gives at least one: kept for safety)
             return None
         cancel = threading.Event()
         ex = ThreadPoolExecutor(max_workers=1, thread_name_prefix="foon-plan")
