@@ -72,6 +72,9 @@ impl Rules for OptimumRules<'_> {
     #[inline]
     fn prefetch(&self, o: u32) {
         self.before.prefetch(o);
+    }
+    #[inline]
+    fn prefetch_leaf(&self, o: u32) {
         self.prep.kitchen_flags().prefetch(o);
     }
     #[inline]
@@ -134,6 +137,9 @@ impl Rules for RankRules<'_> {
     #[inline]
     fn prefetch(&self, o: u32) {
         self.rank.layered().prefetch(o);
+    }
+    #[inline]
+    fn prefetch_leaf(&self, o: u32) {
         self.prep.kitchen_flags().prefetch(o);
     }
     /// The first producer that achieves an object's rank: the choice of `ids`.
@@ -212,28 +218,29 @@ fn delta_ids_choice(
     let mut recompute: Vec<u32> = touched.to_vec();
     let mut first: Vec<(u32, u32)> = Vec::new();
     // Outputs that are bare have no rank, so no choice: a unit's row holds the others.
-    prep.each_flow_ahead(&units, |at, f, needed, outputs| match at {
-        Ahead::Far => bring(needed, outputs),
-        Ahead::Near => {}
-        Ahead::Now => {
-            let v = unit_rank(needed, rank_of);
-            for &y in outputs {
-                if again.contains(&y) {
-                    continue;
-                }
-                let r = rank.get(y);
-                if r == NONE || prep.in_kitchen(y) {
-                    continue;
-                }
-                let c = before.get(y);
-                if c == f && v != r {
-                    recompute.push(y);
-                } else if v == r && f < c {
-                    first.push((y, f));
+    prep.flows()
+        .each_flow_ahead(&units, |at, f, needed, outputs| match at {
+            Ahead::Far => bring(needed, outputs),
+            Ahead::Near => {}
+            Ahead::Now => {
+                let v = unit_rank(needed, rank_of);
+                for &y in outputs {
+                    if again.contains(&y) {
+                        continue;
+                    }
+                    let r = rank.get(y);
+                    if r == NONE || prep.in_kitchen(y) {
+                        continue;
+                    }
+                    let c = before.get(y);
+                    if c == f && v != r {
+                        recompute.push(y);
+                    } else if v == r && f < c {
+                        first.push((y, f));
+                    }
                 }
             }
-        }
-    });
+        });
     let mut choice = before.edit();
     for &(y, f) in &first {
         if f < choice.get(y) {
@@ -259,22 +266,23 @@ fn delta_ids_choice(
         }
     }
     let mut at = 0;
-    prep.each_flow_ahead(&producers, |step, f, needed, _| match step {
-        Ahead::Far => {
-            for &x in needed {
-                rank.prefetch(x);
-                prep.kitchen_flags().prefetch(x);
+    prep.flows()
+        .each_flow_ahead(&producers, |step, f, needed, _| match step {
+            Ahead::Far => {
+                for &x in needed {
+                    rank.prefetch(x);
+                    prep.kitchen_flags().prefetch(x);
+                }
             }
-        }
-        Ahead::Near => {}
-        Ahead::Now => {
-            let (y, r) = owner[at];
-            at += 1;
-            if choice.get(y) == NONE && unit_rank(needed, rank_of) == r {
-                choice.set(y, f);
+            Ahead::Near => {}
+            Ahead::Now => {
+                let (y, r) = owner[at];
+                at += 1;
+                if choice.get(y) == NONE && unit_rank(needed, rank_of) == r {
+                    choice.set(y, f);
+                }
             }
-        }
-    });
+        });
     choice.finish()
 }
 

@@ -15,7 +15,7 @@ use crate::hint::{AHEAD, Ahead};
 
 pub use crate::forward::Ranks;
 use crate::incremental::Pending;
-use crate::index::{Csr, Foon, NONE};
+use crate::index::{Csr, Foon, NONE, Rows};
 use crate::layered::{Layered, Value};
 use crate::model::{MotionRates, ObjectSpec, check_rate};
 use crate::relax::Reached;
@@ -386,55 +386,11 @@ impl Prepared {
         self.base.needed(fu)
     }
 
-    /// Needed inputs of `fu` (after the container rule) and its outputs that are not bare.
+    /// The rows of [`Flows::flow`] (each unit's needed inputs and outputs that are not bare)
+    /// and [`Prepared::needed_by`] as plain slices, for the passes that read many of them.
     #[inline]
-    pub(crate) fn flow(&self, fu: u32) -> (&[u32], &[u32]) {
-        self.base.flow(fu)
-    }
-
-    /// Brings in where the row of [`Prepared::needed_by`] of `o` starts, or the row (reading
-    /// where it starts) with `row` (a hint).
-    #[inline]
-    pub(crate) fn prefetch_needed_by(&self, o: u32, row: bool) {
-        self.base.needed_by.prefetch(o, row);
-    }
-
-    /// Brings in where the row of [`Prepared::flow`] of `fu` starts, or the row (reading
-    /// where it starts) with `row` (a hint).
-    #[inline]
-    pub(crate) fn prefetch_flow(&self, fu: u32, row: bool) {
-        self.base.needed.prefetch(fu, row);
-    }
-
-    /// Calls `visit` on the row of [`Prepared::flow`] of each unit of `units` in order
-    /// ([`Ahead::Now`]), and before, as a pipeline, on the rows of the units a few steps
-    /// ahead ([`Ahead::Far`], [`Ahead::Near`]) so that it can bring in the values it will
-    /// read (the rows themselves, and where they start, are brought in before that): the
-    /// misses of several units overlap instead of each waiting for the one before.
-    #[inline]
-    pub(crate) fn each_flow_ahead(
-        &self,
-        units: &[u32],
-        mut visit: impl FnMut(Ahead, u32, &[u32], &[u32]),
-    ) {
-        for (i, &f) in units.iter().enumerate() {
-            if let Some(&g) = units.get(i + 4 * AHEAD) {
-                self.prefetch_flow(g, false);
-            }
-            if let Some(&g) = units.get(i + 3 * AHEAD) {
-                self.prefetch_flow(g, true);
-            }
-            if let Some(&g) = units.get(i + 2 * AHEAD) {
-                let (needed, outputs) = self.flow(g);
-                visit(Ahead::Far, g, needed, outputs);
-            }
-            if let Some(&g) = units.get(i + AHEAD) {
-                let (needed, outputs) = self.flow(g);
-                visit(Ahead::Near, g, needed, outputs);
-            }
-            let (needed, outputs) = self.flow(f);
-            visit(Ahead::Now, f, needed, outputs);
-        }
+    pub(crate) fn flows(&self) -> Flows<'_> {
+        self.base.flows()
     }
 
     /// [`Foon::is_bare`] of object `o` of the FOON these inputs were prepared for.
@@ -859,16 +815,21 @@ impl PreparedBase {
     /// Needed inputs of `fu` (after the container rule) and its outputs that are not bare.
     #[inline]
     pub(crate) fn flow(&self, fu: u32) -> (&[u32], &[u32]) {
-        match self.needed.row(fu).split_first() {
-            Some((&k, rest)) => rest.split_at((k as usize).min(rest.len())),
-            None => (&[], &[]),
-        }
+        self.flows().flow(fu)
     }
 
     /// The FUs where `o` is a needed input (one entry per slot).
     #[inline]
     pub(crate) fn needed_by(&self, o: u32) -> &[u32] {
         self.needed_by.row(o)
+    }
+
+    #[inline]
+    pub(crate) fn flows(&self) -> Flows<'_> {
+        Flows {
+            needed: self.needed.view(),
+            needed_by: self.needed_by.view(),
+        }
     }
 
     /// Heap bytes of the base (what it has computed so far included).
@@ -879,6 +840,76 @@ impl PreparedBase {
             b += g.order.heap_bytes() + 4 * g.first.capacity();
         }
         b
+    }
+}
+
+/// The rows of a [`PreparedBase`] that passes over units read ([`Prepared::flows`]): each
+/// unit's needed inputs and outputs that are not bare, and each object's units.
+#[derive(Clone, Copy)]
+pub(crate) struct Flows<'a> {
+    needed: Rows<'a>,
+    needed_by: Rows<'a>,
+}
+
+impl<'a> Flows<'a> {
+    /// Needed inputs of `fu` (after the container rule) and its outputs that are not bare.
+    #[inline]
+    pub(crate) fn flow(self, fu: u32) -> (&'a [u32], &'a [u32]) {
+        match self.needed.row(fu).split_first() {
+            Some((&k, rest)) => rest.split_at((k as usize).min(rest.len())),
+            None => (&[], &[]),
+        }
+    }
+
+    /// [`Prepared::needed_by`].
+    #[inline]
+    pub(crate) fn needed_by(self, o: u32) -> &'a [u32] {
+        self.needed_by.row(o)
+    }
+
+    /// Brings in where the row of [`Flows::needed_by`] of `o` starts, or the row (reading
+    /// where it starts) with `row` (a hint).
+    #[inline]
+    pub(crate) fn prefetch_needed_by(self, o: u32, row: bool) {
+        self.needed_by.prefetch(o, row);
+    }
+
+    /// Brings in where the row of [`Flows::flow`] of `fu` starts, or the row (reading where
+    /// it starts) with `row` (a hint).
+    #[inline]
+    pub(crate) fn prefetch_flow(self, fu: u32, row: bool) {
+        self.needed.prefetch(fu, row);
+    }
+
+    /// Calls `visit` on the row of [`Flows::flow`] of each unit of `units` in order
+    /// ([`Ahead::Now`]), and before, as a pipeline, on the rows of the units a few steps
+    /// ahead ([`Ahead::Far`], [`Ahead::Near`]) so that it can bring in the values it will
+    /// read (the rows themselves, and where they start, are brought in before that): the
+    /// misses of several units overlap instead of each waiting for the one before.
+    #[inline]
+    pub(crate) fn each_flow_ahead(
+        self,
+        units: &[u32],
+        mut visit: impl FnMut(Ahead, u32, &'a [u32], &'a [u32]),
+    ) {
+        for (i, &f) in units.iter().enumerate() {
+            if let Some(&g) = units.get(i + 4 * AHEAD) {
+                self.prefetch_flow(g, false);
+            }
+            if let Some(&g) = units.get(i + 3 * AHEAD) {
+                self.prefetch_flow(g, true);
+            }
+            if let Some(&g) = units.get(i + 2 * AHEAD) {
+                let (needed, outputs) = self.flow(g);
+                visit(Ahead::Far, g, needed, outputs);
+            }
+            if let Some(&g) = units.get(i + AHEAD) {
+                let (needed, outputs) = self.flow(g);
+                visit(Ahead::Near, g, needed, outputs);
+            }
+            let (needed, outputs) = self.flow(f);
+            visit(Ahead::Now, f, needed, outputs);
+        }
     }
 }
 

@@ -80,103 +80,101 @@ pub(crate) trait Rules: Sync {
     fn leaf(&self) -> (f64, u32);
     /// The weight of unit `f` ([`Combine::Sum`]).
     fn weight(&self, f: u32) -> f64;
-    /// Brings in what [`Rules::before`] and [`Rules::is_leaf`] read for `o` (a hint).
+    /// Brings in what [`Rules::before`] reads for `o` (a hint).
     #[inline]
     fn prefetch(&self, _o: u32) {}
+    /// Brings in what [`Rules::is_leaf`] reads for `o` (a hint).
+    #[inline]
+    fn prefetch_leaf(&self, _o: u32) {}
 }
 
-/// Marks of an object the pass touched.
-const AFFECTED: u8 = 1;
-const DONE: u8 = 2;
+/// No value: an object the pass reset, or one it found no finite value for.
+const NO_SLOT: Slot = Slot {
+    cost: f64::INFINITY,
+    choice: NONE,
+    depth: 0,
+};
 
-/// An object's value as the pass has changed it.
-#[derive(Clone, Copy)]
-struct Local {
-    slot: Slot,
-    mark: u8,
+/// Whether bit `o` of `bits` is set.
+#[inline]
+fn bit(bits: &[u64], o: u32) -> bool {
+    (bits[o as usize >> 6] >> (o & 63)) & 1 != 0
+}
+
+#[inline]
+fn set_bit(bits: &mut [u64], o: u32) {
+    bits[o as usize >> 6] |= 1 << (o & 63);
 }
 
 /// The values the pass changed: in a hash map (marked by one bit per object) while they are
 /// few, then in an array of them indexed by an array over every object once they pass a
 /// share of the FOON ([`DENSE_SHARE`]): no rehash as they grow, and the index costs 4 bytes
-/// per object, in an anonymous mapping kept for the next pass once this one ends
-/// ([`INDEX_POOL`]). A pending update that is kept costs memory in proportion to what it
-/// changed.
+/// per object, kept for the next pass once this one ends ([`INDEX_POOL`]). A pending update
+/// that is kept costs memory in proportion to what it changed. Two more bits per object mark
+/// the objects the pass reset (*affected*) and those it settled (*done*).
 struct Changed {
     /// One bit per object: whether it is present (read first: it stays in the caches).
     bits: Vec<u64>,
+    affected: Vec<u64>,
+    done: Vec<u64>,
     values: Values,
 }
 
 enum Values {
-    Sparse(FxHashMap<u32, Local>),
-    /// Per object present: its position in `locals` and `present` (read only where `bits`
+    Sparse(FxHashMap<u32, Slot>),
+    /// Per object present: its position in `slots` and `present` (read only where `bits`
     /// says the object is present); the values, and the objects, in the order they were
     /// first changed.
     Dense {
         index: Index,
-        locals: Vec<Local>,
+        slots: Vec<Slot>,
         present: Vec<u32>,
     },
 }
 
-/// The index of a dense store: 4 bytes per object in an anonymous mapping, kept for the next
-/// pass when this one ends (see [`INDEX_POOL`]).
-struct Index(Option<memmap2::MmapMut>);
+/// The index of a dense store: 4 bytes per object, kept for the next pass when this one ends
+/// (see [`INDEX_POOL`]).
+struct Index(Vec<u32>);
 
 /// Indexes of passes that ended, kept for the next passes over a FOON of the same size (a
 /// few, as many as passes run at once in a batch, and at most [`INDEX_POOL_BYTES`] in all:
 /// the memory they hold after the last pass). A pass that reaches objects all over the
 /// FOON writes an entry in most pages of its index, and the system zeroes each page as it is
-/// first touched; a kept index costs none of that. What an earlier pass left in it is never
-/// read: an entry is read only for an object that `bits` marks present, and every such
-/// object's entry was written by this pass.
-static INDEX_POOL: std::sync::Mutex<Vec<memmap2::MmapMut>> = std::sync::Mutex::new(Vec::new());
+/// first touched (a new index is allocated zeroed, so its pages are mapped on first use);
+/// a kept index costs none of that. What an earlier pass left in it is never read: an entry
+/// is read only for an object that `bits` marks present, and every such object's entry was
+/// written by this pass.
+static INDEX_POOL: std::sync::Mutex<Vec<Vec<u32>>> = std::sync::Mutex::new(Vec::new());
 const INDEX_POOL_KEEP: usize = 4;
 const INDEX_POOL_BYTES: usize = 64 << 20;
 
 impl Index {
-    /// An index of `bytes` bytes (4 per object): a kept one, else a new mapping (`None`
-    /// without memory).
-    fn take(bytes: usize) -> Option<Self> {
+    /// An index of `len` entries: a kept one, else a new one.
+    fn take(len: usize) -> Self {
         let kept = INDEX_POOL.lock().ok().and_then(|mut pool| {
-            let i = pool.iter().position(|m| m.len() == bytes)?;
+            let i = pool.iter().position(|m| m.len() == len)?;
             Some(pool.swap_remove(i))
         });
-        match kept {
-            Some(m) => Some(Self(Some(m))),
-            None => memmap2::MmapMut::map_anon(bytes)
-                .ok()
-                .map(|m| Self(Some(m))),
-        }
+        Self(kept.unwrap_or_else(|| vec![0; len]))
     }
 
-    #[inline]
-    fn get(&self) -> &[u32] {
-        self.0.as_deref().map_or(&[], bytemuck::cast_slice)
-    }
-
-    #[inline]
-    fn get_mut(&mut self) -> &mut [u32] {
-        self.0
-            .as_deref_mut()
-            .map_or(&mut [], bytemuck::cast_slice_mut)
-    }
-
-    fn len(&self) -> usize {
-        self.0.as_ref().map_or(0, |m| m.len())
+    /// Bytes held.
+    fn bytes(&self) -> usize {
+        4 * self.0.len()
     }
 }
 
 impl Drop for Index {
     fn drop(&mut self) {
         // An index larger than the whole pool is not kept; the oldest make room for another.
-        if let Some(m) = self.0.take().filter(|m| m.len() <= INDEX_POOL_BYTES)
+        let m = std::mem::take(&mut self.0);
+        if 4 * m.len() <= INDEX_POOL_BYTES
             && let Ok(mut pool) = INDEX_POOL.lock()
         {
             while !pool.is_empty()
                 && (pool.len() >= INDEX_POOL_KEEP
-                    || pool.iter().map(|k| k.len()).sum::<usize>() + m.len() > INDEX_POOL_BYTES)
+                    || pool.iter().map(|k| 4 * k.len()).sum::<usize>() + 4 * m.len()
+                        > INDEX_POOL_BYTES)
             {
                 pool.remove(0);
             }
@@ -193,48 +191,72 @@ const DENSE_SHARE: usize = 64;
 
 impl Changed {
     fn new(n: usize) -> Self {
+        let words = n.div_ceil(64);
         Self {
-            bits: vec![0; n.div_ceil(64)],
+            bits: vec![0; words],
+            affected: vec![0; words],
+            done: vec![0; words],
             values: Values::Sparse(FxHashMap::default()),
         }
     }
 
     #[inline]
-    fn get(&self, o: u32) -> Option<Local> {
-        let u = o as usize;
-        if (self.bits[u >> 6] >> (u & 63)) & 1 == 0 {
-            return None;
-        }
+    fn has(&self, o: u32) -> bool {
+        bit(&self.bits, o)
+    }
+
+    #[inline]
+    fn is_affected(&self, o: u32) -> bool {
+        bit(&self.affected, o)
+    }
+
+    #[inline]
+    fn is_done(&self, o: u32) -> bool {
+        bit(&self.done, o)
+    }
+
+    /// The value of `o`, present or not (read only where `bits` says it is).
+    #[inline]
+    fn value(&self, o: u32) -> Slot {
         match &self.values {
-            Values::Sparse(map) => map.get(&o).copied(),
-            Values::Dense { index, locals, .. } => Some(locals[index.get()[u] as usize]),
+            Values::Sparse(map) => map.get(&o).copied().unwrap_or(NO_SLOT),
+            Values::Dense { index, slots, .. } => slots
+                .get(index.0[o as usize] as usize)
+                .copied()
+                .unwrap_or(NO_SLOT),
         }
     }
 
-    /// Brings in where the value of `o` is kept (with `value`, the value: reads where it is
-    /// kept), when it is present in the arrays (a hint).
     #[inline]
-    fn prefetch(&self, o: u32, value: bool) {
-        let u = o as usize;
-        if let Values::Dense { index, locals, .. } = &self.values
-            && (self.bits[u >> 6] >> (u & 63)) & 1 != 0
-        {
-            let at = &index.get()[u];
+    fn get(&self, o: u32) -> Option<Slot> {
+        self.has(o).then(|| self.value(o))
+    }
+
+    /// Brings in where the value of `o` is kept (with `value`, the value: reads where it is
+    /// kept), when it is present in the arrays (a hint). Whether `o` is present (its value is
+    /// then read here, not from the values before the change).
+    #[inline]
+    fn prefetch(&self, o: u32, value: bool) -> bool {
+        if !self.has(o) {
+            return false;
+        }
+        if let Values::Dense { index, slots, .. } = &self.values {
+            let at = &index.0[o as usize];
             if value {
-                if let Some(l) = locals.get(*at as usize) {
+                if let Some(l) = slots.get(*at as usize) {
                     crate::hint::prefetch(l);
                 }
             } else {
                 crate::hint::prefetch(at);
             }
         }
+        true
     }
 
     #[inline]
-    fn put(&mut self, o: u32, l: Local) {
-        let u = o as usize;
-        let new = (self.bits[u >> 6] >> (u & 63)) & 1 == 0;
-        self.bits[u >> 6] |= 1 << (u & 63);
+    fn put(&mut self, o: u32, l: Slot) {
+        let new = !self.has(o);
+        set_bit(&mut self.bits, o);
         match &mut self.values {
             Values::Sparse(map) => {
                 map.insert(o, l);
@@ -245,15 +267,16 @@ impl Changed {
             }
             Values::Dense {
                 index,
-                locals,
+                slots,
                 present,
             } => {
+                let u = o as usize;
                 if new {
-                    index.get_mut()[u] = locals.len() as u32;
-                    locals.push(l);
+                    index.0[u] = slots.len() as u32;
+                    slots.push(l);
                     present.push(o);
-                } else {
-                    locals[index.get()[u] as usize] = l;
+                } else if let Some(s) = slots.get_mut(index.0[u] as usize) {
+                    *s = l;
                 }
             }
         }
@@ -265,21 +288,18 @@ impl Changed {
         let Values::Sparse(map) = &mut self.values else {
             return;
         };
-        let Some(mut index) = Index::take(4 * n) else {
-            // No memory for the index: the map goes on.
-            return;
-        };
+        let mut index = Index::take(n);
         let map = std::mem::take(map);
-        let mut locals = Vec::with_capacity(4 * map.len());
+        let mut slots = Vec::with_capacity(4 * map.len());
         let mut present = Vec::with_capacity(4 * map.len());
         for (o, l) in map {
-            index.get_mut()[o as usize] = locals.len() as u32;
-            locals.push(l);
+            index.0[o as usize] = slots.len() as u32;
+            slots.push(l);
             present.push(o);
         }
         self.values = Values::Dense {
             index,
-            locals,
+            slots,
             present,
         };
     }
@@ -295,26 +315,24 @@ impl Changed {
     /// Every object present, with its value.
     fn into_iter(self) -> Box<dyn Iterator<Item = (u32, Slot)>> {
         match self.values {
-            Values::Sparse(map) => Box::new(map.into_iter().map(|(o, l)| (o, l.slot))),
-            Values::Dense {
-                locals, present, ..
-            } => Box::new(present.into_iter().zip(locals).map(|(o, l)| (o, l.slot))),
+            Values::Sparse(map) => Box::new(map.into_iter()),
+            Values::Dense { slots, present, .. } => Box::new(present.into_iter().zip(slots)),
         }
     }
 
     fn heap_bytes(&self) -> usize {
-        8 * self.bits.capacity()
+        8 * (self.bits.capacity() + self.affected.capacity() + self.done.capacity())
             + match &self.values {
-                Values::Sparse(map) => (std::mem::size_of::<(u32, Local)>() + 1) * map.capacity(),
+                Values::Sparse(map) => (std::mem::size_of::<(u32, Slot)>() + 1) * map.capacity(),
                 // The index's pages touched, at most: one per object present.
                 Values::Dense {
                     index,
-                    locals,
+                    slots,
                     present,
                 } => {
-                    std::mem::size_of::<Local>() * locals.capacity()
+                    std::mem::size_of::<Slot>() * slots.capacity()
                         + 4 * present.capacity()
-                        + index.len().min(4096 * present.len())
+                        + index.bytes().min(4096 * present.len())
                 }
             }
     }
@@ -345,10 +363,11 @@ pub(crate) struct Relax {
     /// Objects settled that were not affected (lowered, or offered a tie).
     lowered: usize,
     end: bool,
-    /// The objects of the level being settled, and the units they are needed by (kept to
-    /// be reused).
+    /// The objects of the level being settled, and the units they are needed by, each once
+    /// (kept to be reused); one bit per unit, set while it is in `units`.
     level: Vec<u32>,
     units: Vec<u32>,
+    unit_bits: Vec<u64>,
 }
 
 impl Relax {
@@ -366,17 +385,13 @@ impl Relax {
         let n = foon.object_count();
         let mut r = Self {
             local: Changed::new(n),
-            queue: RadixQueue::new(),
+            queue: RadixQueue::by_key(),
             affected: Vec::new(),
             lowered: 0,
             end: false,
             level: Vec::new(),
             units: Vec::new(),
-        };
-        let none = Slot {
-            cost: f64::INFINITY,
-            choice: NONE,
-            depth: 0,
+            unit_bits: vec![0; foon.fu_count().div_ceil(64)],
         };
         // A leaf removed (or added with a value not below its value before) may raise what
         // is made from it; a leaf added below its value before only lowers it (seeded below).
@@ -386,9 +401,8 @@ impl Relax {
             rules.is_leaf(o) && lower(leaf, leaf_depth, b.cost, b.depth)
         };
         for &o in flipped {
-            if rules.was_leaf(o) != rules.is_leaf(o) && !lowers(o) && r.mark(o) & AFFECTED == 0 {
-                r.put(o, none, AFFECTED);
-                r.affected.push(o);
+            if rules.was_leaf(o) != rules.is_leaf(o) && !lowers(o) && !r.local.is_affected(o) {
+                r.reset(o);
             }
         }
         // Every object whose choice needs an affected object, transitively.
@@ -400,9 +414,8 @@ impl Relax {
             }
             for &f in prep.needed_by(x) {
                 for &y in foon.outputs(f) {
-                    if r.mark(y) & AFFECTED == 0 && rules.old_choice(y) == f {
-                        r.put(y, none, AFFECTED);
-                        r.affected.push(y);
+                    if !r.local.is_affected(y) && rules.old_choice(y) == f {
+                        r.reset(y);
                     }
                 }
             }
@@ -418,15 +431,15 @@ impl Relax {
             obj,
         };
         for &o in flipped {
-            if !rules.was_leaf(o) && lowers(o) && r.mark(o) & AFFECTED == 0 {
-                r.put(o, leaf_slot, 0);
+            if !rules.was_leaf(o) && lowers(o) && !r.local.is_affected(o) {
+                r.local.put(o, leaf_slot);
                 r.queue.push(leaf_entry(o));
             }
         }
         for i in 0..r.affected.len() {
             let y = r.affected[i];
             if rules.is_leaf(y) {
-                r.put(y, leaf_slot, AFFECTED);
+                r.local.put(y, leaf_slot);
                 r.queue.push(leaf_entry(y));
             } else if !prep.is_bare(y) {
                 for &f in foon.producers(y) {
@@ -448,7 +461,7 @@ impl Relax {
     /// The value of `o` when the pass changed it (else it is the value before the change).
     #[inline]
     pub(crate) fn changed(&self, o: u32) -> Option<Slot> {
-        self.local_of(o).map(|l| l.slot)
+        self.local.get(o)
     }
 
     /// Whether the value and choice of `o` are final.
@@ -456,11 +469,10 @@ impl Relax {
         if self.end {
             return true;
         }
-        let s = match self.local_of(o) {
-            Some(l) if l.mark & DONE != 0 => return true,
-            Some(l) => l.slot,
-            None => self.get(rules, o),
-        };
+        if self.local.is_done(o) {
+            return true;
+        }
+        let s = self.get(rules, o);
         match self.queue.peek() {
             None => true,
             Some(top) => !lower(top.cost, top.depth, s.cost, s.depth),
@@ -483,6 +495,7 @@ impl Relax {
         if self.end {
             return Ok(Reached::End);
         }
+        let flows = prep.flows();
         // Objects to settle before `stop` is next called (a level at a time: between two
         // levels, so that a stopped pass goes on where it stopped).
         let mut until_stop = 1;
@@ -501,7 +514,7 @@ impl Relax {
             };
             // Every queued object at the least key is final at once (an offer is strictly
             // above each input's key): they are settled together, and the units they are
-            // needed by computed once each, in unit order.
+            // needed by computed once each.
             let mut level = std::mem::take(&mut self.level);
             level.clear();
             let (cost, depth) = (first.cost, first.depth);
@@ -512,12 +525,12 @@ impl Relax {
                 obj: o,
             }) = next
             {
-                if let Some(l) = self.local_of(o)
-                    && l.mark & DONE == 0
-                    && (l.slot.cost.to_bits(), l.slot.depth) == (c.to_bits(), d)
+                if let Some(l) = self.local.get(o)
+                    && !self.local.is_done(o)
+                    && (l.cost.to_bits(), l.depth) == (c.to_bits(), d)
                 {
-                    self.set_mark(o, l.slot, l.mark | DONE);
-                    if l.mark & AFFECTED == 0 {
+                    set_bit(&mut self.local.done, o);
+                    if !self.local.is_affected(o) {
                         self.lowered += 1;
                         if self.lowered > limit {
                             return Ok(Reached::TooFar);
@@ -531,33 +544,42 @@ impl Relax {
                 if let Some(e) = self.queue.ahead(AHEAD) {
                     self.local.prefetch(e.obj, true);
                 }
-                next = match self.queue.peek() {
-                    Some(t) if !lower(cost, depth, t.cost, t.depth) => self.queue.pop(),
-                    _ => None,
-                };
+                next = self.queue.pop_up_to(cost, depth);
             }
             until_stop = until_stop.saturating_sub(level.len());
             let mut units = std::mem::take(&mut self.units);
             units.clear();
             for (i, &o) in level.iter().enumerate() {
                 if let Some(&p) = level.get(i + 2 * AHEAD) {
-                    prep.prefetch_needed_by(p, false);
+                    flows.prefetch_needed_by(p, false);
                 }
                 if let Some(&p) = level.get(i + AHEAD) {
-                    prep.prefetch_needed_by(p, true);
+                    flows.prefetch_needed_by(p, true);
                 }
-                units.extend_from_slice(prep.needed_by(o));
+                for &f in flows.needed_by(o) {
+                    let (w, b) = (f as usize >> 6, 1u64 << (f & 63));
+                    if self.unit_bits[w] & b == 0 {
+                        self.unit_bits[w] |= b;
+                        units.push(f);
+                    }
+                }
             }
-            if level.len() > 1 {
-                units.sort_unstable();
-                units.dedup();
+            for &f in &units {
+                self.unit_bits[f as usize >> 6] = 0;
             }
             // One row per unit: its needed inputs and its outputs that are not bare.
-            prep.each_flow_ahead(&units, |at, f, needed, outputs| match at {
+            flows.each_flow_ahead(&units, |at, f, needed, outputs| match at {
                 Ahead::Far => {
-                    for &x in needed.iter().chain(outputs) {
-                        rules.prefetch(x);
-                        self.local.prefetch(x, false);
+                    for &x in needed {
+                        if !self.local.prefetch(x, false) {
+                            rules.prefetch(x);
+                        }
+                    }
+                    for &y in outputs {
+                        if !self.local.prefetch(y, false) {
+                            rules.prefetch(y);
+                        }
+                        rules.prefetch_leaf(y);
                     }
                 }
                 Ahead::Near => {
@@ -579,17 +601,8 @@ impl Relax {
         // Affected objects never reached have no value.
         for i in 0..self.affected.len() {
             let y = self.affected[i];
-            let m = self.mark(y);
-            if m & DONE == 0 {
-                self.put(
-                    y,
-                    Slot {
-                        cost: f64::INFINITY,
-                        choice: NONE,
-                        depth: 0,
-                    },
-                    m,
-                );
+            if !self.local.is_done(y) {
+                self.local.put(y, NO_SLOT);
             }
         }
         self.end = true;
@@ -614,24 +627,11 @@ impl Relax {
             + 4 * (self.affected.capacity() + self.level.capacity() + self.units.capacity())
     }
 
-    #[inline]
-    fn local_of(&self, o: u32) -> Option<Local> {
-        self.local.get(o)
-    }
-
-    #[inline]
-    fn mark(&self, o: u32) -> u8 {
-        self.local.get(o).map_or(0, |l| l.mark)
-    }
-
-    #[inline]
-    fn set_mark(&mut self, o: u32, slot: Slot, mark: u8) {
-        self.local.put(o, Local { slot, mark });
-    }
-
-    #[inline]
-    fn put(&mut self, o: u32, slot: Slot, mark: u8) {
-        self.local.put(o, Local { slot, mark });
+    /// Marks `o` affected: reset, without a value until the pass gives it one.
+    fn reset(&mut self, o: u32) {
+        self.local.put(o, NO_SLOT);
+        set_bit(&mut self.local.affected, o);
+        self.affected.push(o);
     }
 
     /// The (value, depth) unit `f` offers its outputs from the current values, `None` when
@@ -640,13 +640,15 @@ impl Relax {
     #[inline]
     fn unit<R: Rules>(&self, rules: &R, f: u32, needed: &[u32]) -> Option<(f64, u32)> {
         let read = |x: u32| -> Option<(f64, u32)> {
-            let (c, d, m) = if let Some(l) = self.local_of(x) {
-                (l.slot.cost, l.slot.depth, l.mark)
+            let s = if self.local.has(x) {
+                if self.local.is_affected(x) && !self.local.is_done(x) {
+                    return None;
+                }
+                self.local.value(x)
             } else {
-                let s = rules.before(x);
-                (s.cost, s.depth, 0)
+                rules.before(x)
             };
-            (c.is_finite() && (m & AFFECTED == 0 || m & DONE != 0)).then_some((c, d))
+            s.cost.is_finite().then_some((s.cost, s.depth))
         };
         match R::COMBINE {
             Combine::Sum => {
@@ -684,10 +686,13 @@ impl Relax {
     /// is a leaf is read last: most offers lose before).
     #[inline]
     fn offer<R: Rules>(&mut self, rules: &R, y: u32, f: u32, c: f64, d: u32) {
-        let (old, mark) = match self.local_of(y) {
-            Some(l) if l.mark & DONE != 0 => return,
-            Some(l) => (l.slot, l.mark),
-            None => (rules.before(y), 0),
+        let old = if self.local.has(y) {
+            if self.local.is_done(y) {
+                return;
+            }
+            self.local.value(y)
+        } else {
+            rules.before(y)
         };
         let wins = if R::CHOICES {
             better(c, d, f, old.cost, old.depth, old.choice)
@@ -702,14 +707,13 @@ impl Relax {
                     obj: y,
                 });
             }
-            self.put(
+            self.local.put(
                 y,
                 Slot {
                     cost: c,
                     choice: f,
                     depth: d,
                 },
-                mark,
             );
         }
     }
@@ -725,20 +729,17 @@ mod tests {
     fn kept_indexes_are_reused_and_never_read_stale() {
         // A size no other test's FOON has (the pool is shared by the tests' threads).
         let n = 64 * 15_627;
-        let mut a = Index::take(4 * n).expect("memory for an index");
-        a.get_mut().fill(7);
+        let mut a = Index::take(n);
+        a.0.fill(7);
         drop(a);
-        let b = Index::take(4 * n).expect("memory for an index");
-        assert!(b.get().iter().all(|&x| x == 7), "the kept index is reused");
+        let b = Index::take(n);
+        assert!(b.0.iter().all(|&x| x == 7), "the kept index is reused");
         drop(b);
         let mut c = Changed::new(n);
-        let local = |o: u32| Local {
-            slot: Slot {
-                cost: f64::from(o),
-                choice: o,
-                depth: 0,
-            },
-            mark: 0,
+        let local = |o: u32| Slot {
+            cost: f64::from(o),
+            choice: o,
+            depth: 0,
         };
         for o in (0..n as u32).step_by(40) {
             c.put(o, local(o));
@@ -747,19 +748,19 @@ mod tests {
         for o in 0..n as u32 {
             match c.get(o) {
                 Some(l) => {
-                    assert!(o % 40 == 0 && l.slot.cost.to_bits() == f64::from(o).to_bits());
-                    assert_eq!(l.slot.choice, o);
+                    assert!(o % 40 == 0 && l.cost.to_bits() == f64::from(o).to_bits());
+                    assert_eq!(l.choice, o);
                 }
                 None => assert!(o % 40 != 0, "{o}"),
             }
         }
         assert_eq!(c.len(), n.div_ceil(40));
         drop(c);
-        let big = INDEX_POOL_BYTES + 4;
-        drop(Index::take(big).expect("memory for an index"));
+        let big = INDEX_POOL_BYTES / 4 + 1;
+        drop(Index::take(big));
         let pool = INDEX_POOL.lock().expect("the pool's lock");
         assert!(pool.iter().all(|m| m.len() != big));
         assert!(pool.len() <= INDEX_POOL_KEEP);
-        assert!(pool.iter().map(|m| m.len()).sum::<usize>() <= INDEX_POOL_BYTES);
+        assert!(pool.iter().map(|m| 4 * m.len()).sum::<usize>() <= INDEX_POOL_BYTES);
     }
 }

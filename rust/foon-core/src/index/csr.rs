@@ -12,6 +12,40 @@ pub struct Csr {
     pub(crate) data: Col<u32>,
 }
 
+/// The rows of a [`Csr`] as plain slices ([`Csr::view`]): the same rows, read without
+/// looking the columns up each time.
+#[derive(Clone, Copy)]
+pub(crate) struct Rows<'a> {
+    off: &'a [u32],
+    data: &'a [u32],
+}
+
+impl<'a> Rows<'a> {
+    /// Row `i`; empty when out of range.
+    #[inline]
+    pub(crate) fn row(self, i: u32) -> &'a [u32] {
+        let i = i as usize;
+        match (self.off.get(i), self.off.get(i + 1)) {
+            (Some(&a), Some(&b)) => self.data.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+
+    /// Brings in where row `i` starts, or with `row` its first entries (reading where it
+    /// starts) ([`prefetch`]: a hint).
+    #[inline]
+    pub(crate) fn prefetch(self, i: u32, row: bool) {
+        let Some(a) = self.off.get(i as usize) else {
+            return;
+        };
+        if !row {
+            prefetch(a);
+        } else if let Some(x) = self.data.get(*a as usize) {
+            prefetch(x);
+        }
+    }
+}
+
 impl Csr {
     pub fn new() -> Self {
         Self {
@@ -56,25 +90,16 @@ impl Csr {
     /// Row `i`; empty when out of range.
     #[inline]
     pub fn row(&self, i: u32) -> &[u32] {
-        let off: &[u32] = &self.off;
-        let i = i as usize;
-        match (off.get(i), off.get(i + 1)) {
-            (Some(&a), Some(&b)) => self.data.get(a as usize..b as usize).unwrap_or(&[]),
-            _ => &[],
-        }
+        self.view().row(i)
     }
 
-    /// Brings in where row `i` starts, or with `row` its first entries (reading where it
-    /// starts) ([`prefetch`]: a hint).
+    /// The rows as plain slices, for loops that read many of them: a column of a mapped
+    /// index is found in its backing on each read of [`Csr::row`], once here.
     #[inline]
-    pub(crate) fn prefetch(&self, i: u32, row: bool) {
-        let Some(a) = self.off.get(i as usize) else {
-            return;
-        };
-        if !row {
-            prefetch(a);
-        } else if let Some(x) = self.data.get(*a as usize) {
-            prefetch(x);
+    pub(crate) fn view(&self) -> Rows<'_> {
+        Rows {
+            off: &self.off,
+            data: &self.data,
         }
     }
 

@@ -23,6 +23,7 @@ use crate::model::{ObjectSpec, canonical_into};
 pub use build::{Builder, RawObject};
 pub use col::Col;
 pub use csr::Csr;
+pub(crate) use csr::Rows;
 pub use hash::Table;
 pub use interner::Interner;
 

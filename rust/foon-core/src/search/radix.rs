@@ -20,7 +20,7 @@
 
 use std::collections::BinaryHeap;
 
-use super::optimal::Entry;
+use super::optimal::{Entry, lower};
 
 /// A min-queue on (cost, depth, object id) for non-negative, monotone costs (see the module
 /// documentation).
@@ -34,6 +34,8 @@ pub(crate) struct RadixQueue {
     /// `buckets[i]`: entries whose cost first differs from `last` in bit `i` (from 0, the
     /// lowest), as (cost bits, depth, object).
     buckets: Vec<Vec<(u64, u32, u32)>>,
+    /// Whether entries of equal (cost, depth) pop in object id order (else in any order).
+    by_id: bool,
 }
 
 impl RadixQueue {
@@ -43,6 +45,17 @@ impl RadixQueue {
             sorted: Vec::new(),
             low: BinaryHeap::new(),
             buckets: (0..64).map(|_| Vec::new()).collect(),
+            by_id: true,
+        }
+    }
+
+    /// A queue that pops in (cost, depth) order, entries of equal (cost, depth) in any
+    /// order: for a search that takes a level of equal keys at once (no sort of the entries
+    /// of one cost when they are all of one depth).
+    pub(crate) fn by_key() -> Self {
+        Self {
+            by_id: false,
+            ..Self::new()
         }
     }
 
@@ -89,10 +102,18 @@ impl RadixQueue {
         moved.clear();
         // Keep the allocation for the next entries of this bucket.
         self.buckets[b] = moved;
-        // They all cost `least`: ordered by (depth, id), the least last, as one integer key.
-        self.sorted.sort_unstable_by_key(|e| {
-            std::cmp::Reverse((u64::from(e.depth) << 32) | u64::from(e.obj))
-        });
+        // They all cost `least`: ordered by (depth, id), the least last, as one integer key
+        // (by depth alone, when ids need no order, and only when depths differ).
+        if self.by_id {
+            self.sorted.sort_unstable_by_key(|e| {
+                std::cmp::Reverse((u64::from(e.depth) << 32) | u64::from(e.obj))
+            });
+        } else if let Some(first) = self.sorted.first().map(|e| e.depth)
+            && self.sorted.iter().any(|e| e.depth != first)
+        {
+            self.sorted
+                .sort_unstable_by_key(|e| std::cmp::Reverse(e.depth));
+        }
     }
 
     /// Whether the next pop takes the end of `sorted` (else the top of `low`).
@@ -125,6 +146,33 @@ impl RadixQueue {
         }
     }
 
+    /// The least entry when its (cost, depth) is at most (`cost`, `depth`): the next entry of a
+    /// level of equal keys, `cost` being that of an entry popped since the last push below it.
+    /// Such a cost is at most the one bucket 0 was refilled at, and every entry of the other
+    /// buckets is above: they are not refilled (a refill would move that cost up, and the
+    /// level's offers still to come, below it, to the binary heap).
+    #[inline]
+    pub(crate) fn pop_up_to(&mut self, cost: f64, depth: u32) -> Option<Entry> {
+        let up_to = |e: &Entry| !lower(cost, depth, e.cost, e.depth);
+        if cost.is_sign_negative() || cost.to_bits() > self.last {
+            return match self.peek() {
+                Some(e) if up_to(e) => self.pop(),
+                _ => None,
+            };
+        }
+        if self.next_is_sorted() {
+            if self.sorted.last().is_some_and(up_to) {
+                self.sorted.pop()
+            } else {
+                None
+            }
+        } else if self.low.peek().is_some_and(up_to) {
+            self.low.pop()
+        } else {
+            None
+        }
+    }
+
     /// An entry likely to be popped `k` pops from now (the `k`-th of those moved down by the
     /// last refill, counting from the next; pushes since are not counted): for hints only.
     #[inline]
@@ -149,41 +197,68 @@ mod tests {
 
     proptest! {
         /// Pops equal a binary heap's under Knuth's discipline (a push is never below the
-        /// last pop), ties by object id, including repeated costs, zeros and stale entries.
+        /// last pop), ties by object id, including repeated costs, zeros and stale entries,
+        /// and pops of the rest of a level ([`RadixQueue::pop_up_to`] the last pop's key);
+        /// a queue [`RadixQueue::by_key`] pops the same keys, each level's objects in any
+        /// order.
         #[test]
         fn pops_as_a_binary_heap(ops in proptest::collection::vec(
-            (0u8..4, 0u32..50, 0u32..40, 0u32..3), 1..400)) {
-            let mut radix = RadixQueue::new();
+            (0u8..5, 0u32..50, 0u32..40, 0u32..3), 1..400), by_id in any::<bool>()) {
+            let mut radix = if by_id { RadixQueue::new() } else { RadixQueue::by_key() };
             let mut heap = BinaryHeap::new();
-            let mut floor = 0.0f64;
+            let mut floor = (0.0f64, 0u32);
+            let mut popped = false;
+            // Objects popped at each key, from either queue.
+            let (mut got, mut want) = (Vec::new(), Vec::new());
             for (kind, obj, step, depth) in ops {
-                if kind == 0 {
-                    let a = radix.pop();
-                    let b = heap.pop();
-                    prop_assert_eq!(a.as_ref().map(|e| (e.cost, e.depth, e.obj)),
-                        b.as_ref().map(|e: &Entry| (e.cost, e.depth, e.obj)));
-                    if let Some(e) = a {
-                        floor = e.cost;
+                if kind == 0 || (kind == 4 && popped) {
+                    let (a, b) = if kind == 0 {
+                        (radix.pop(), heap.pop())
+                    } else {
+                        let (c, d) = floor;
+                        let b = heap.peek().is_some_and(|e: &Entry| !lower(c, d, e.cost, e.depth));
+                        (radix.pop_up_to(c, d), if b { heap.pop() } else { None })
+                    };
+                    let key = |e: &Entry| (e.cost, e.depth);
+                    prop_assert_eq!(a.as_ref().map(key), b.as_ref().map(key));
+                    if by_id {
+                        prop_assert_eq!(a.as_ref().map(|e| e.obj), b.as_ref().map(|e| e.obj));
+                    }
+                    if let (Some(a), Some(b)) = (a, b) {
+                        floor = (a.cost, a.depth);
+                        popped = true;
+                        got.push((a.cost.to_bits(), a.depth, a.obj));
+                        want.push((b.cost.to_bits(), b.depth, b.obj));
                     }
                 } else {
                     // Costs from the last pop upward, often equal, some fractional,
                     // and -0.0 beside 0.0.
-                    let mut cost = floor + f64::from(step / 4) * if kind == 1 { 0.37 } else { 1.0 };
+                    let mut cost = floor.0 + f64::from(step / 4) * if kind == 1 { 0.37 } else { 1.0 };
                     if cost == 0.0 && step % 2 == 1 {
                         cost = -0.0;
                     }
                     radix.push(Entry { cost, depth, obj });
                     heap.push(Entry { cost, depth, obj });
+                    // A push below the last pop's key ends its level.
+                    popped &= !lower(cost, depth, floor.0, floor.1);
                 }
                 prop_assert_eq!(radix.len(), heap.len());
-                prop_assert_eq!(radix.peek().map(|e| (e.cost, e.depth, e.obj)),
-                    heap.peek().map(|e| (e.cost, e.depth, e.obj)));
+                let key = |e: &Entry| (e.cost, e.depth);
+                prop_assert_eq!(radix.peek().map(key), heap.peek().map(key));
+                if by_id {
+                    prop_assert_eq!(radix.peek().map(|e| e.obj), heap.peek().map(|e| e.obj));
+                }
             }
             while let Some(b) = heap.pop() {
-                let a = radix.pop().map(|e| (e.cost, e.depth, e.obj));
-                prop_assert_eq!(a, Some((b.cost, b.depth, b.obj)));
+                let a = radix.pop().expect("as many entries as the heap");
+                prop_assert_eq!((a.cost, a.depth), (b.cost, b.depth));
+                got.push((a.cost.to_bits(), a.depth, a.obj));
+                want.push((b.cost.to_bits(), b.depth, b.obj));
             }
             prop_assert!(radix.pop().is_none());
+            got.sort_unstable();
+            want.sort_unstable();
+            prop_assert_eq!(got, want);
         }
 
         /// A push below the last pop (never made by the searches) still pops in order.
