@@ -18,17 +18,15 @@ pub(crate) fn prefetch<T>(x: &T) {
 }
 
 /// How many units ahead of the one computed a pipeline over units brings in the values a
-/// unit reads ([`Ahead::Near`]); twice as far ([`Ahead::Far`]), three and four times as far,
-/// its row and where the row starts (`Prepared::each_flow_ahead`).
+/// unit reads: [`AHEAD`] times two ([`Ahead::Far`]); three and four times as far, its row and
+/// where the row starts (`Flows::each_flow_ahead`).
 pub(crate) const AHEAD: usize = 4;
 
-/// Where a unit stands in a pipeline over units (`Prepared::each_flow_ahead`).
+/// Where a unit stands in a pipeline over units (`Flows::each_flow_ahead`).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Ahead {
     /// [`AHEAD`] times two units ahead: its row is in, bring in the values it reads.
     Far,
-    /// [`AHEAD`] units ahead: bring in what the values read lead to.
-    Near,
     /// The unit to compute.
     Now,
 }

@@ -221,7 +221,6 @@ fn delta_ids_choice(
     prep.flows()
         .each_flow_ahead(&units, |at, f, needed, outputs| match at {
             Ahead::Far => bring(needed, outputs),
-            Ahead::Near => {}
             Ahead::Now => {
                 let v = unit_rank(needed, rank_of);
                 for &y in outputs {
@@ -274,7 +273,6 @@ fn delta_ids_choice(
                     prep.kitchen_flags().prefetch(x);
                 }
             }
-            Ahead::Near => {}
             Ahead::Now => {
                 let (y, r) = owner[at];
                 at += 1;

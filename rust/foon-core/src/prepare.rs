@@ -882,16 +882,27 @@ impl<'a> Flows<'a> {
     }
 
     /// Calls `visit` on the row of [`Flows::flow`] of each unit of `units` in order
-    /// ([`Ahead::Now`]), and before, as a pipeline, on the rows of the units a few steps
-    /// ahead ([`Ahead::Far`], [`Ahead::Near`]) so that it can bring in the values it will
-    /// read (the rows themselves, and where they start, are brought in before that): the
-    /// misses of several units overlap instead of each waiting for the one before.
+    /// ([`Ahead::Now`]), and before, as a pipeline, on the row of the unit a few steps ahead
+    /// ([`Ahead::Far`]) so that it can bring in the values it will read (the rows themselves,
+    /// and where they start, are brought in before that): the misses of several units
+    /// overlap instead of each waiting for the one before. Each row is read once.
     #[inline]
     pub(crate) fn each_flow_ahead(
         self,
         units: &[u32],
         mut visit: impl FnMut(Ahead, u32, &'a [u32], &'a [u32]),
     ) {
+        const FAR: usize = 2 * AHEAD;
+        // The rows of the units between the one computed and the one brought in.
+        let mut rows: [(&'a [u32], &'a [u32]); FAR] = [(&[], &[]); FAR];
+        for (i, &g) in units.iter().take(4 * AHEAD).enumerate() {
+            self.prefetch_flow(g, false);
+            if let Some(row) = rows.get_mut(i) {
+                let (needed, outputs) = self.flow(g);
+                visit(Ahead::Far, g, needed, outputs);
+                *row = (needed, outputs);
+            }
+        }
         for (i, &f) in units.iter().enumerate() {
             if let Some(&g) = units.get(i + 4 * AHEAD) {
                 self.prefetch_flow(g, false);
@@ -899,16 +910,13 @@ impl<'a> Flows<'a> {
             if let Some(&g) = units.get(i + 3 * AHEAD) {
                 self.prefetch_flow(g, true);
             }
-            if let Some(&g) = units.get(i + 2 * AHEAD) {
+            let (needed, outputs) = rows[i % FAR];
+            visit(Ahead::Now, f, needed, outputs);
+            if let Some(&g) = units.get(i + FAR) {
                 let (needed, outputs) = self.flow(g);
                 visit(Ahead::Far, g, needed, outputs);
+                rows[i % FAR] = (needed, outputs);
             }
-            if let Some(&g) = units.get(i + AHEAD) {
-                let (needed, outputs) = self.flow(g);
-                visit(Ahead::Near, g, needed, outputs);
-            }
-            let (needed, outputs) = self.flow(f);
-            visit(Ahead::Now, f, needed, outputs);
         }
     }
 }

@@ -107,11 +107,11 @@ fn set_bit(bits: &mut [u64], o: u32) {
 }
 
 /// The values the pass changed: in a hash map (marked by one bit per object) while they are
-/// few, then in an array of them indexed by an array over every object once they pass a
-/// share of the FOON ([`DENSE_SHARE`]): no rehash as they grow, and the index costs 4 bytes
-/// per object, kept for the next pass once this one ends ([`INDEX_POOL`]). A pending update
-/// that is kept costs memory in proportion to what it changed. Two more bits per object mark
-/// the objects the pass reset (*affected*) and those it settled (*done*).
+/// few, then in an array over every object once they pass a share of the FOON
+/// ([`DENSE_SHARE`]): no rehash as they grow, one read per value, and the array (16 bytes per
+/// object, allocated zeroed: a page is mapped when first written) is kept for the next pass
+/// once this one ends ([`DENSE_POOL`]). Two more bits per object mark the objects the pass
+/// reset (*affected*) and those it settled (*done*).
 struct Changed {
     /// One bit per object: whether it is present (read first: it stays in the caches).
     bits: Vec<u64>,
@@ -122,59 +122,76 @@ struct Changed {
 
 enum Values {
     Sparse(FxHashMap<u32, Slot>),
-    /// Per object present: its position in `slots` and `present` (read only where `bits`
-    /// says the object is present); the values, and the objects, in the order they were
-    /// first changed.
+    /// Per object, its value (read only where `bits` says the object is present); the
+    /// objects present, in the order they were first changed.
     Dense {
-        index: Index,
-        slots: Vec<Slot>,
+        slots: Direct,
         present: Vec<u32>,
     },
 }
 
-/// The index of a dense store: 4 bytes per object, kept for the next pass when this one ends
-/// (see [`INDEX_POOL`]).
-struct Index(Vec<u32>);
+/// A value as a dense store keeps it: the cost's bits, then the choice and the depth.
+type Packed = [u64; 2];
 
-/// Indexes of passes that ended, kept for the next passes over a FOON of the same size (a
-/// few, as many as passes run at once in a batch, and at most [`INDEX_POOL_BYTES`] in all:
-/// the memory they hold after the last pass). A pass that reaches objects all over the
-/// FOON writes an entry in most pages of its index, and the system zeroes each page as it is
-/// first touched (a new index is allocated zeroed, so its pages are mapped on first use);
-/// a kept index costs none of that. What an earlier pass left in it is never read: an entry
-/// is read only for an object that `bits` marks present, and every such object's entry was
-/// written by this pass.
-static INDEX_POOL: std::sync::Mutex<Vec<Vec<u32>>> = std::sync::Mutex::new(Vec::new());
-const INDEX_POOL_KEEP: usize = 4;
-const INDEX_POOL_BYTES: usize = 64 << 20;
+#[inline]
+fn pack(s: Slot) -> Packed {
+    [
+        s.cost.to_bits(),
+        u64::from(s.choice) | (u64::from(s.depth) << 32),
+    ]
+}
 
-impl Index {
-    /// An index of `len` entries: a kept one, else a new one.
+#[inline]
+fn unpack([c, cd]: Packed) -> Slot {
+    Slot {
+        cost: f64::from_bits(c),
+        choice: cd as u32,
+        depth: (cd >> 32) as u32,
+    }
+}
+
+/// The values of a dense store, one per object, kept for the next pass when this one ends
+/// (see [`DENSE_POOL`]).
+struct Direct(Vec<Packed>);
+
+/// Arrays of passes that ended, kept for the next passes over a FOON of the same size (a
+/// few, as many as passes run at once in a batch, and at most [`DENSE_POOL_BYTES`] in all:
+/// the memory they hold after the last pass). A pass that reaches objects all over the FOON
+/// writes in most pages of its array, and the system zeroes each page as it is first
+/// touched; a kept array costs none of that. What an earlier pass left in it is never read:
+/// a value is read only for an object that `bits` marks present, and every such object's
+/// value was written by this pass.
+static DENSE_POOL: std::sync::Mutex<Vec<Vec<Packed>>> = std::sync::Mutex::new(Vec::new());
+const DENSE_POOL_KEEP: usize = 4;
+const DENSE_POOL_BYTES: usize = 64 << 20;
+
+impl Direct {
+    /// An array of `len` values: a kept one, else a new one (zeroed, mapped on first use).
     fn take(len: usize) -> Self {
-        let kept = INDEX_POOL.lock().ok().and_then(|mut pool| {
+        let kept = DENSE_POOL.lock().ok().and_then(|mut pool| {
             let i = pool.iter().position(|m| m.len() == len)?;
             Some(pool.swap_remove(i))
         });
-        Self(kept.unwrap_or_else(|| vec![0; len]))
+        Self(kept.unwrap_or_else(|| vec![[0; 2]; len]))
     }
 
     /// Bytes held.
     fn bytes(&self) -> usize {
-        4 * self.0.len()
+        std::mem::size_of::<Packed>() * self.0.len()
     }
 }
 
-impl Drop for Index {
+impl Drop for Direct {
     fn drop(&mut self) {
-        // An index larger than the whole pool is not kept; the oldest make room for another.
+        // An array larger than the whole pool is not kept; the oldest make room for another.
         let m = std::mem::take(&mut self.0);
-        if 4 * m.len() <= INDEX_POOL_BYTES
-            && let Ok(mut pool) = INDEX_POOL.lock()
+        let size = |v: &Vec<Packed>| std::mem::size_of::<Packed>() * v.len();
+        if size(&m) <= DENSE_POOL_BYTES
+            && let Ok(mut pool) = DENSE_POOL.lock()
         {
             while !pool.is_empty()
-                && (pool.len() >= INDEX_POOL_KEEP
-                    || pool.iter().map(|k| 4 * k.len()).sum::<usize>() + 4 * m.len()
-                        > INDEX_POOL_BYTES)
+                && (pool.len() >= DENSE_POOL_KEEP
+                    || pool.iter().map(size).sum::<usize>() + size(&m) > DENSE_POOL_BYTES)
             {
                 pool.remove(0);
             }
@@ -220,10 +237,7 @@ impl Changed {
     fn value(&self, o: u32) -> Slot {
         match &self.values {
             Values::Sparse(map) => map.get(&o).copied().unwrap_or(NO_SLOT),
-            Values::Dense { index, slots, .. } => slots
-                .get(index.0[o as usize] as usize)
-                .copied()
-                .unwrap_or(NO_SLOT),
+            Values::Dense { slots, .. } => unpack(slots.0[o as usize]),
         }
     }
 
@@ -232,23 +246,15 @@ impl Changed {
         self.has(o).then(|| self.value(o))
     }
 
-    /// Brings in where the value of `o` is kept (with `value`, the value: reads where it is
-    /// kept), when it is present in the arrays (a hint). Whether `o` is present (its value is
-    /// then read here, not from the values before the change).
+    /// Brings in the value of `o` when it is present in the array (a hint). Whether `o` is
+    /// present (its value is then read here, not from the values before the change).
     #[inline]
-    fn prefetch(&self, o: u32, value: bool) -> bool {
+    fn prefetch(&self, o: u32) -> bool {
         if !self.has(o) {
             return false;
         }
-        if let Values::Dense { index, slots, .. } = &self.values {
-            let at = &index.0[o as usize];
-            if value {
-                if let Some(l) = slots.get(*at as usize) {
-                    crate::hint::prefetch(l);
-                }
-            } else {
-                crate::hint::prefetch(at);
-            }
+        if let Values::Dense { slots, .. } = &self.values {
+            crate::hint::prefetch(&slots.0[o as usize]);
         }
         true
     }
@@ -265,19 +271,11 @@ impl Changed {
                     self.densify(n);
                 }
             }
-            Values::Dense {
-                index,
-                slots,
-                present,
-            } => {
-                let u = o as usize;
+            Values::Dense { slots, present } => {
                 if new {
-                    index.0[u] = slots.len() as u32;
-                    slots.push(l);
                     present.push(o);
-                } else if let Some(s) = slots.get_mut(index.0[u] as usize) {
-                    *s = l;
                 }
+                slots.0[o as usize] = pack(l);
             }
         }
     }
@@ -288,20 +286,14 @@ impl Changed {
         let Values::Sparse(map) = &mut self.values else {
             return;
         };
-        let mut index = Index::take(n);
+        let mut slots = Direct::take(n);
         let map = std::mem::take(map);
-        let mut slots = Vec::with_capacity(4 * map.len());
         let mut present = Vec::with_capacity(4 * map.len());
         for (o, l) in map {
-            index.0[o as usize] = slots.len() as u32;
-            slots.push(l);
+            slots.0[o as usize] = pack(l);
             present.push(o);
         }
-        self.values = Values::Dense {
-            index,
-            slots,
-            present,
-        };
+        self.values = Values::Dense { slots, present };
     }
 
     /// The number of objects present.
@@ -316,7 +308,11 @@ impl Changed {
     fn into_iter(self) -> Box<dyn Iterator<Item = (u32, Slot)>> {
         match self.values {
             Values::Sparse(map) => Box::new(map.into_iter()),
-            Values::Dense { slots, present, .. } => Box::new(present.into_iter().zip(slots)),
+            Values::Dense { slots, present } => Box::new(
+                present
+                    .into_iter()
+                    .map(move |o| (o, unpack(slots.0[o as usize]))),
+            ),
         }
     }
 
@@ -324,15 +320,9 @@ impl Changed {
         8 * (self.bits.capacity() + self.affected.capacity() + self.done.capacity())
             + match &self.values {
                 Values::Sparse(map) => (std::mem::size_of::<(u32, Slot)>() + 1) * map.capacity(),
-                // The index's pages touched, at most: one per object present.
-                Values::Dense {
-                    index,
-                    slots,
-                    present,
-                } => {
-                    std::mem::size_of::<Slot>() * slots.capacity()
-                        + 4 * present.capacity()
-                        + index.bytes().min(4096 * present.len())
+                // The array's pages touched, at most: one per object present.
+                Values::Dense { slots, present } => {
+                    4 * present.capacity() + slots.bytes().min(4096 * present.len())
                 }
             }
     }
@@ -539,10 +529,7 @@ impl Relax {
                     level.push(o);
                 }
                 if let Some(e) = self.queue.ahead(2 * AHEAD) {
-                    self.local.prefetch(e.obj, false);
-                }
-                if let Some(e) = self.queue.ahead(AHEAD) {
-                    self.local.prefetch(e.obj, true);
+                    self.local.prefetch(e.obj);
                 }
                 next = self.queue.pop_up_to(cost, depth);
             }
@@ -571,20 +558,15 @@ impl Relax {
             flows.each_flow_ahead(&units, |at, f, needed, outputs| match at {
                 Ahead::Far => {
                     for &x in needed {
-                        if !self.local.prefetch(x, false) {
+                        if !self.local.prefetch(x) {
                             rules.prefetch(x);
                         }
                     }
                     for &y in outputs {
-                        if !self.local.prefetch(y, false) {
+                        if !self.local.prefetch(y) {
                             rules.prefetch(y);
                         }
                         rules.prefetch_leaf(y);
-                    }
-                }
-                Ahead::Near => {
-                    for &x in needed.iter().chain(outputs) {
-                        self.local.prefetch(x, true);
                     }
                 }
                 Ahead::Now => {
@@ -723,17 +705,17 @@ impl Relax {
 mod tests {
     use super::*;
 
-    /// A kept index is reused as it was left (its pages not zeroed again), and a store that
-    /// takes it reads only the entries it wrote; an index larger than the pool is not kept.
+    /// A kept array is reused as it was left (its pages not zeroed again), and a store that
+    /// takes it reads only the values it wrote; an array larger than the pool is not kept.
     #[test]
-    fn kept_indexes_are_reused_and_never_read_stale() {
+    fn kept_arrays_are_reused_and_never_read_stale() {
         // A size no other test's FOON has (the pool is shared by the tests' threads).
         let n = 64 * 15_627;
-        let mut a = Index::take(n);
-        a.0.fill(7);
+        let mut a = Direct::take(n);
+        a.0.fill([7, 7]);
         drop(a);
-        let b = Index::take(n);
-        assert!(b.0.iter().all(|&x| x == 7), "the kept index is reused");
+        let b = Direct::take(n);
+        assert!(b.0.iter().all(|&x| x == [7, 7]), "the kept array is reused");
         drop(b);
         let mut c = Changed::new(n);
         let local = |o: u32| Slot {
@@ -756,11 +738,11 @@ mod tests {
         }
         assert_eq!(c.len(), n.div_ceil(40));
         drop(c);
-        let big = INDEX_POOL_BYTES / 4 + 1;
-        drop(Index::take(big));
-        let pool = INDEX_POOL.lock().expect("the pool's lock");
+        let big = DENSE_POOL_BYTES / 16 + 1;
+        drop(Direct::take(big));
+        let pool = DENSE_POOL.lock().expect("the pool's lock");
         assert!(pool.iter().all(|m| m.len() != big));
-        assert!(pool.len() <= INDEX_POOL_KEEP);
-        assert!(pool.iter().map(|m| 4 * m.len()).sum::<usize>() <= INDEX_POOL_BYTES);
+        assert!(pool.len() <= DENSE_POOL_KEEP);
+        assert!(pool.iter().map(|m| 16 * m.len()).sum::<usize>() <= DENSE_POOL_BYTES);
     }
 }

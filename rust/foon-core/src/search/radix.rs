@@ -160,7 +160,7 @@ impl RadixQueue {
                 _ => None,
             };
         }
-        if self.next_is_sorted() {
+        if self.low.is_empty() || self.next_is_sorted() {
             if self.sorted.last().is_some_and(up_to) {
                 self.sorted.pop()
             } else {
