@@ -19,7 +19,7 @@
 
 use std::sync::Arc;
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::error::{Error, Result};
 use crate::forward::Ranks;
@@ -120,6 +120,7 @@ struct RankRules<'a> {
 impl Rules for RankRules<'_> {
     const COMBINE: Combine = Combine::Rank;
     const CHOICES: bool = false;
+    const UNIT_VALUES: bool = true;
 
     #[inline]
     fn before(&self, o: u32) -> Slot {
@@ -186,17 +187,21 @@ fn ids_choice_with(foon: &Foon, prep: &Prepared, rank: impl Fn(u32) -> u32, o: u
 /// (computed again) or when the value of one of its producers changes, that is a unit
 /// needing a touched object: the choice is computed again when that unit was the choice and
 /// no longer achieves the rank, and becomes that unit when it achieves the rank and comes
-/// first.
+/// first. `known` holds the values of units the pass of the ranks computed (as
+/// [`Relax::unit_values`]); the others are computed here.
 fn delta_ids_choice(
     foon: &Foon,
     prep: &Prepared,
     rank: &Layered<u32>,
     before: &Layered<u32>,
     touched: &[u32],
+    known: &FxHashMap<u32, f64>,
 ) -> Layered<u32> {
     let rank_of = |x: u32| if prep.in_kitchen(x) { 0 } else { rank.get(x) };
-    // What a unit's value and its outputs' choices read, brought in ahead (a hint).
-    let bring = |needed: &[u32], outputs: &[u32]| {
+    // What a unit's value (when not known) and its outputs' choices read, brought in ahead
+    // (a hint).
+    let bring = |f: u32, needed: &[u32], outputs: &[u32]| {
+        let needed = if known.contains_key(&f) { &[] } else { needed };
         for &x in needed.iter().chain(outputs) {
             rank.prefetch(x);
             prep.kitchen_flags().prefetch(x);
@@ -220,9 +225,13 @@ fn delta_ids_choice(
     // Outputs that are bare have no rank, so no choice: a unit's row holds the others.
     prep.flows()
         .each_flow_ahead(&units, |at, f, needed, outputs| match at {
-            Ahead::Far => bring(needed, outputs),
+            Ahead::Far => bring(f, needed, outputs),
             Ahead::Now => {
-                let v = unit_rank(needed, rank_of);
+                let v = match known.get(&f) {
+                    Some(&c) if c.is_finite() => c as u32,
+                    Some(_) => NONE,
+                    None => unit_rank(needed, rank_of),
+                };
                 for &y in outputs {
                     if again.contains(&y) {
                         continue;
@@ -520,6 +529,7 @@ impl Prepared {
         ) {
             return (None, None);
         }
+        let known = relax.unit_values();
         let count = relax.changed_count();
         let changes: Vec<(u32, u32)> = relax
             .changes()
@@ -538,7 +548,7 @@ impl Prepared {
         let rank = r.layered().changed(changes, count);
         let ids = self
             .computed_ids_choice()
-            .map(|c| delta_ids_choice(foon, new_prep, &rank, c, &touched));
+            .map(|c| delta_ids_choice(foon, new_prep, &rank, c, &touched, &known));
         (Some(Ranks::from_layered(rank)), ids)
     }
 

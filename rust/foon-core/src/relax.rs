@@ -66,6 +66,8 @@ pub(crate) trait Rules: Sync {
     const COMBINE: Combine;
     /// Whether choices are kept with the values (else an offer that only ties is no change).
     const CHOICES: bool;
+    /// Whether the pass keeps the value of each unit it computes ([`Relax::unit_values`]).
+    const UNIT_VALUES: bool = false;
     /// The (value, depth) of `o` before the change (`f64::INFINITY` when it had none) and its
     /// choice as kept with the values (`NONE` when none is kept: ties are then broken by the
     /// pass alone, which values do not depend on).
@@ -358,6 +360,8 @@ pub(crate) struct Relax {
     level: Vec<u32>,
     units: Vec<u32>,
     unit_bits: Vec<u64>,
+    /// The value of each unit computed, in the order computed (with [`Rules::UNIT_VALUES`]).
+    unit_values: Vec<(u32, f64)>,
 }
 
 impl Relax {
@@ -382,6 +386,7 @@ impl Relax {
             level: Vec::new(),
             units: Vec::new(),
             unit_bits: vec![0; foon.fu_count().div_ceil(64)],
+            unit_values: Vec::new(),
         };
         // A leaf removed (or added with a value not below its value before) may raise what
         // is made from it; a leaf added below its value before only lowers it (seeded below).
@@ -570,7 +575,12 @@ impl Relax {
                     }
                 }
                 Ahead::Now => {
-                    if let Some((c, d)) = self.unit(rules, f, needed) {
+                    let value = self.unit(rules, f, needed);
+                    if R::UNIT_VALUES {
+                        self.unit_values
+                            .push((f, value.map_or(f64::INFINITY, |(c, _)| c)));
+                    }
+                    if let Some((c, d)) = value {
                         for &y in outputs {
                             self.offer(rules, y, f, c, d);
                         }
@@ -596,6 +606,16 @@ impl Relax {
     pub(crate) fn changes(self) -> impl Iterator<Item = (u32, Slot)> {
         debug_assert!(self.end);
         self.local.into_iter()
+    }
+
+    /// The value of every unit the pass computed, once it ran to the end (with
+    /// [`Rules::UNIT_VALUES`]), `f64::INFINITY` for none: each unit's value is computed again
+    /// whenever one of its needed inputs settles, so the last one computed reads final values
+    /// only. A unit needing an object the pass changed is here unless that object was reset
+    /// and given no value.
+    pub(crate) fn unit_values(&mut self) -> FxHashMap<u32, f64> {
+        debug_assert!(self.end);
+        std::mem::take(&mut self.unit_values).into_iter().collect()
     }
 
     /// The number of objects [`Relax::changes`] gives.
