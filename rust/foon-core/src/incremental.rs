@@ -212,7 +212,7 @@ fn delta_ids_choice(
     };
     let again: FxHashSet<u32> = touched.iter().copied().collect();
     // The units needing a touched object, each once, in unit order (rows read in memory
-    // order, each unit's row and values brought in a few units ahead).
+    // order, each unit's row and the values it reads brought in a few units ahead).
     let mut units: Vec<u32> = touched
         .iter()
         .flat_map(|&x| prep.needed_by(x))

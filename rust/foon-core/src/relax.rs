@@ -32,10 +32,10 @@
 //! can be read before the pass has run to the end.
 //!
 //! **Levels.** For the same reason every object queued at the least key is final at once:
-//! the pass settles them together and computes each unit they are needed by once, in unit
-//! order (a unit two of them are needed by is not computed twice, and the units' rows are
-//! read in memory order). The final values do not depend on the order of the offers (the
-//! choice is the least of them in (value, depth, producer) order).
+//! the pass settles them together, in any order, and computes each unit they are needed by
+//! once (a unit two of them are needed by is not computed twice). The final values do not
+//! depend on the order of the offers (the choice is the least of them in (value, depth,
+//! producer) order).
 //!
 //! The pass keeps the values it changed apart (a hash map, then arrays once they are many,
 //! marked by one bit per object) and reads every other value from the values before the
