@@ -152,6 +152,11 @@ fn unpack([c, cd]: Packed) -> Slot {
     }
 }
 
+/// The bytes of the values `v`.
+fn size_of_values(v: &[Packed]) -> usize {
+    std::mem::size_of_val(v)
+}
+
 /// The values of a dense store, one per object, kept for the next pass when this one ends
 /// (see [`DENSE_POOL`]).
 struct Direct(Vec<Packed>);
@@ -179,7 +184,7 @@ impl Direct {
 
     /// Bytes held.
     fn bytes(&self) -> usize {
-        std::mem::size_of::<Packed>() * self.0.len()
+        size_of_values(&self.0)
     }
 }
 
@@ -187,13 +192,13 @@ impl Drop for Direct {
     fn drop(&mut self) {
         // An array larger than the whole pool is not kept; the oldest make room for another.
         let m = std::mem::take(&mut self.0);
-        let size = |v: &Vec<Packed>| std::mem::size_of::<Packed>() * v.len();
-        if size(&m) <= DENSE_POOL_BYTES
+        if size_of_values(&m) <= DENSE_POOL_BYTES
             && let Ok(mut pool) = DENSE_POOL.lock()
         {
             while !pool.is_empty()
                 && (pool.len() >= DENSE_POOL_KEEP
-                    || pool.iter().map(size).sum::<usize>() + size(&m) > DENSE_POOL_BYTES)
+                    || pool.iter().map(|k| size_of_values(k)).sum::<usize>() + size_of_values(&m)
+                        > DENSE_POOL_BYTES)
             {
                 pool.remove(0);
             }
@@ -549,9 +554,8 @@ impl Relax {
                     flows.prefetch_needed_by(p, true);
                 }
                 for &f in flows.needed_by(o) {
-                    let (w, b) = (f as usize >> 6, 1u64 << (f & 63));
-                    if self.unit_bits[w] & b == 0 {
-                        self.unit_bits[w] |= b;
+                    if !bit(&self.unit_bits, f) {
+                        set_bit(&mut self.unit_bits, f);
                         units.push(f);
                     }
                 }
@@ -627,6 +631,8 @@ impl Relax {
     pub(crate) fn heap_bytes(&self) -> usize {
         self.local.heap_bytes()
             + 4 * (self.affected.capacity() + self.level.capacity() + self.units.capacity())
+            + 8 * self.unit_bits.capacity()
+            + std::mem::size_of::<(u32, f64)>() * self.unit_values.capacity()
     }
 
     /// Marks `o` affected: reset, without a value until the pass gives it one.
