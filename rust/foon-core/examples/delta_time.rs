@@ -1,13 +1,16 @@
 //! Times a kitchen changed by a delta, prepared from the base kitchen's preparation against
 //! prepared from scratch, in the core alone (no Python):
-//! `cargo run --release --example delta_time -- FOON KITCHEN MOTIONS GOALS ADDED [REMOVED] [ROUNDS]`
+//! `cargo run --release --example delta_time -- FOON KITCHEN MOTIONS GOALS ADDED [REMOVED] [ROUNDS] [incremental]`
 //! with `FOON` a FOON file (text or `.foonidx`), `KITCHEN` a kitchen file, `MOTIONS` a motion
 //! table, `GOALS` a goal file (the first goal the base kitchen can make and lacks is planned)
 //! and `ADDED`, `REMOVED` files of object ids, one per line (`-` for none). The base computes
 //! the ranks, the choices of `ids` and the optimal objectives (a plan of `ids` and one of
 //! `optimal-units`); each side then prepares the new kitchen and makes the same two plans;
 //! the incremental side also runs its updates to the end (`Prepared::finish_updates`). Prints
-//! the best time of each over `ROUNDS` (5) rounds, alternated.
+//! the best time of each over `ROUNDS` (5) rounds, alternated. With `incremental`, each round
+//! is the incremental side's delta and two plans alone (no preparation from scratch, no
+//! updates run to the end): a loop to count what one delta costs, under a profiler (the
+//! difference between two numbers of rounds).
 use std::path::Path;
 use std::time::Instant;
 
@@ -40,7 +43,8 @@ fn warm(foon: &Foon, prep: &Prepared, goal: u32) -> Result<(), foon_core::Error>
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let usage = "usage: delta_time FOON KITCHEN MOTIONS GOALS ADDED [REMOVED] [ROUNDS]";
+    let usage =
+        "usage: delta_time FOON KITCHEN MOTIONS GOALS ADDED [REMOVED] [ROUNDS] [incremental]";
     let mut args = std::env::args().skip(1);
     let foon_path = args.next().ok_or(usage)?;
     let kitchen_path = args.next().ok_or(usage)?;
@@ -49,6 +53,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let added = ids(&args.next().ok_or(usage)?)?;
     let removed = ids(&args.next().unwrap_or_else(|| "-".into()))?;
     let rounds: usize = args.next().map_or(Ok(5), |s| s.parse())?;
+    let only_incremental = match args.next().as_deref() {
+        None => false,
+        Some("incremental") => true,
+        Some(_) => return Err(usage.into()),
+    };
     let foon = if foon_path.ends_with(".foonidx") {
         Foon::open_index(Path::new(&foon_path))?
     } else {
@@ -79,6 +88,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     objects.sort_unstable();
     objects.dedup();
     let (mut scratch, mut delta, mut whole) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+    if only_incremental {
+        for _ in 0..rounds {
+            let t = Instant::now();
+            let inc = base.with_delta(&foon, &added, &removed)?;
+            warm(&foon, &inc, goal)?;
+            delta = delta.min(t.elapsed().as_secs_f64());
+        }
+        eprintln!("incremental {:.2} ms", delta * 1e3);
+        return Ok(());
+    }
     for _ in 0..rounds {
         let t = Instant::now();
         let fresh = Prepared::with_base(&foon, std::sync::Arc::clone(base.base()), &objects)?;
